@@ -1,0 +1,35 @@
+package mapm.cli
+
+import mainargs.{ParserForMethods, TokensReader}
+import mapm.MapmError
+import mapm.model.FloatFormat
+
+/** Helpers shared by the commands: running a mainargs parser with our error convention, and
+  * token readers for the project's own argument types. */
+object Args {
+  /** Parses `args` for the single `@main` method of `container` and runs it. A parse error
+    * (unknown flag, bad value) becomes a [[MapmError]]; `--help` prints the usage. */
+  def run[B](container: ParserForMethods[B], args: Seq[String], name: String): Int = {
+    if (args.contains("--help") || args.contains("-h")) {
+      println(container.helpText(totalWidth = 100, docsOnNewLine = false, customNames = Map.empty, customDocs = Map.empty, sorted = true, nameMapper = mainargs.Util.kebabCaseNameMapper).replace("mapm.cli.", ""))
+      return 0
+    }
+    container.runRaw(args, allowPositional = false, allowRepeats = false, nameMapper = mainargs.Util.kebabCaseNameMapper) match {
+      case mainargs.Result.Success(code: Int)         => code
+      case mainargs.Result.Success(_)                 => 0
+      case mainargs.Result.Failure.Exception(t)       => throw t
+      case _ =>
+        // Not a run: a parse error. Render mainargs' own message (parsing again invokes nothing).
+        val msg = container.runEither(args, allowPositional = false, allowRepeats = false).left.getOrElse("")
+        val first = msg.linesIterator.map(_.trim).filter(_.nonEmpty).take(3).mkString(" ")
+        MapmError.fail(s"$name: $first (mapm $name --help lists the options)")
+    }
+  }
+
+  implicit object FloatFormatReader extends TokensReader.Simple[FloatFormat] {
+    def shortName = "format"
+    def read(strs: Seq[String]): Either[String, FloatFormat] =
+      try Right(FloatFormat.parse(strs.last))
+      catch { case e: MapmError => Left(e.getMessage) }
+  }
+}
