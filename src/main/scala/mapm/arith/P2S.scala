@@ -1,0 +1,26 @@
+package mapm.arith
+
+import chisel3._
+import chisel3.util._
+
+/** Parallel to serial (3.4.5, 3.6): a triangular register array that delays bit `i` of a
+  * `width`-bit word by `width - 1 - i` cycles, so that a word presented at cycle t reaches the
+  * pipeline behind it most significant bit first: bit `width-1` at cycle t, bit `i` at cycle
+  * t + (width-1-i). A new word may enter every cycle; the words overlap in the array.
+  *
+  * Latency: bit i is delayed by width-1-i cycles (the MSB passes straight through).
+  * Throughput: one word per cycle. Registers: width*(width-1)/2 flip-flops.
+  */
+class P2S(width: Int) extends Module {
+  require(width >= 1, s"P2S width must be at least 1, got $width")
+  override def desiredName = s"P2S_w$width"
+
+  val io = IO(new Bundle {
+    /** The parallel word, sampled every cycle. */
+    val in = Input(UInt(width.W))
+    /** Bit i of the word that entered width-1-i cycles ago, for each i. */
+    val out = Output(UInt(width.W))
+  })
+
+  io.out := VecInit((0 until width).map(i => ShiftRegister(io.in(i), width - 1 - i))).asUInt
+}
