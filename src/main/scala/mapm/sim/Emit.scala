@@ -1,0 +1,52 @@
+package mapm.sim
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+
+/** Emitting SystemVerilog through CIRCT (firtool), the one path every user-facing command uses. */
+object Emit {
+  /** firtool options for every emission: no randomized initial values (the design resets what
+    * needs it) and no debug-info comments, so the output is stable and lint-clean. */
+  val firtoolOpts: Array[String] = Array("-disable-all-randomization", "-strip-debug-info")
+
+  /** The SystemVerilog of `gen` as one string. */
+  def systemVerilog(gen: => chisel3.RawModule): String =
+    circt.stage.ChiselStage.emitSystemVerilog(gen, Array.empty, firtoolOpts)
+
+  /** Writes the SystemVerilog of `gen` to `dir/<file>` and returns the path. */
+  def toFile(gen: => chisel3.RawModule, dir: Path, file: String): Path = {
+    Files.createDirectories(dir)
+    val p = dir.resolve(file)
+    Files.write(p, systemVerilog(gen).getBytes(StandardCharsets.UTF_8))
+    p
+  }
+
+  /** A port of an emitted module. */
+  final case class Port(name: String, width: Int, isInput: Boolean)
+
+  private val moduleRe = """(?m)^module\s+(\w+)\s*\(""".r
+  // firtool writes `input [7:0] a,` and continues with bare `b,` lines that share the previous
+  // declaration's direction and width.
+  private val portRe = """^\s*(input|output)?\s*(?:wire\s+|logic\s+)?(?:\[(\d+):0\]\s*)?(\w+)\s*,?\s*(//.*)?$""".r
+
+  /** The top module of an emitted file (the one no other module instantiates) and its ports in
+    * declaration order. Throws if the text has no module. */
+  def topPorts(sv: String): (String, Seq[Port]) = {
+    val names = moduleRe.findAllMatchIn(sv).map(_.group(1)).toSeq
+    require(names.nonEmpty, "no module in the emitted SystemVerilog")
+    val instantiated = names.filter(n => s"""(?m)^\\s+$n\\s+\\w+\\s*\\(""".r.findFirstIn(sv).isDefined).toSet
+    val top = names.filterNot(instantiated).lastOption.getOrElse(names.last)
+    val start = sv.indexOf(s"module $top")
+    val header = sv.substring(start, sv.indexOf(");", start))
+    var lastDir = "input"
+    var lastWidth = 1
+    val ports = header.linesIterator.drop(1).flatMap {
+      case portRe(dir, hi, name, _) =>
+        if (dir != null) { lastDir = dir; lastWidth = if (hi == null) 1 else hi.toInt + 1 }
+        else if (hi != null) lastWidth = hi.toInt + 1
+        Some(Port(name, lastWidth, lastDir == "input"))
+      case _ => None
+    }.toSeq
+    (top, ports)
+  }
+}
