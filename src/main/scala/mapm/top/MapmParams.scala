@@ -1,0 +1,125 @@
+package mapm.top
+
+import mapm.model.FloatFormat
+
+/** Geometry of one read-only cache.
+  *
+  * @param sizeBytes total data capacity in bytes
+  * @param lineBytes bytes per line
+  * @param ways      associativity (1 = direct mapped; `lines` = fully associative)
+  */
+final case class CacheParams(
+    sizeBytes: Int = 16 * 1024, // total data bytes
+    lineBytes: Int = 32,        // bytes per line
+    ways: Int = 2               // associativity; 1 = direct mapped
+) {
+  require(isPow2(lineBytes) && lineBytes >= 8, s"cache line must be a power of two of at least 8 bytes, got $lineBytes")
+  require(sizeBytes >= lineBytes && sizeBytes % lineBytes == 0, s"cache size $sizeBytes must be a positive multiple of the line size $lineBytes")
+  require(ways >= 1 && lines % ways == 0, s"cache ways $ways must divide the line count $lines")
+  require(isPow2(sets), s"cache set count must be a power of two, got $sets (size $sizeBytes, line $lineBytes, ways $ways)")
+
+  /** Number of lines and of sets. */
+  def lines: Int = sizeBytes / lineBytes
+  def sets: Int = lines / ways
+  def fullyAssociative: Boolean = sets == 1
+  def describe: String = s"${sizeBytes / 1024} KiB, $lineBytes B lines, ${if (fullyAssociative) "fully associative" else s"$ways-way"}"
+
+  private def isPow2(x: Int): Boolean = x > 0 && (x & (x - 1)) == 0
+}
+
+/** The five caches of Table 4.2. */
+final case class CachesParams(
+    tsL1: CacheParams = CacheParams(16 * 1024, 32, 2),              // Tree Search L1, per TSM
+    tsL2: CacheParams = CacheParams(256 * 1024, 64, 256 * 1024 / 64), // Tree Search L2, shared, fully associative
+    soq: CacheParams = CacheParams(16 * 1024, 32, 1),               // Shader Operation query cache, direct mapped (FIFO-like)
+    sopL1: CacheParams = CacheParams(64 * 1024, 32, 2),             // Shader Operation photon L1, per SOM
+    sopL2: CacheParams = CacheParams(512 * 1024, 64, 512 * 1024 / 64) // Shader Operation photon L2, shared, fully associative
+)
+
+/** How many of each replicable module (Figure 4.8). */
+final case class ModuleCounts(
+    tsm: Int = 16,  // Tree Search Modules (each with one TSA)
+    som: Int = 16,  // Shader Operation Modules
+    soaPerSom: Int = 2 // Shader Operation Accelerators in each SOM
+) {
+  require(tsm >= 1, s"TSM count must be at least 1, got $tsm")
+  require(som >= 1, s"SOM count must be at least 1, got $som")
+  require(soaPerSom >= 1, s"SOAs per SOM must be at least 1, got $soaPerSom")
+  def label: String = s"$tsm/$som/$soaPerSom"
+}
+
+/** Number format of every value the accelerator computes on. */
+final case class NumberParams(
+    format: FloatFormat = FloatFormat.fp32, // float format of positions, h, split values, power, ...
+    guardDigits: Int = 3                    // extra online digits in the SOA (0 = the dissertation's design)
+) {
+  require(format.width <= 32, s"formats wider than 32 bits do not fit the 32-bit memory slots, got $format")
+  require(guardDigits >= 0 && guardDigits <= 8, s"guard digits must be 0..8, got $guardDigits")
+}
+
+/** Queues and buffers between the blocks. */
+final case class QueueParams(
+    registerQueueDepth: Int = 64, // entries of the Register queue (pending child searches)
+    rsEntries: Int = 8            // reservation-station entries per SOM
+) {
+  require(registerQueueDepth >= 2, s"Register queue depth must be at least 2, got $registerQueueDepth")
+  require(rsEntries >= 1, s"reservation-station entries must be at least 1, got $rsEntries")
+}
+
+/** The memory port shared by all caches. */
+final case class MemoryParams(
+    dataBytes: Int = 16,      // bytes per response beat
+    maxOutstanding: Int = 16, // requests in flight at once (id width = log2 of this)
+    addressBits: Int = 32     // byte address width
+) {
+  require(dataBytes >= 4 && (dataBytes & (dataBytes - 1)) == 0, s"memory data width must be a power of two of at least 4 bytes, got $dataBytes")
+  require(maxOutstanding >= 1, s"outstanding-request limit must be at least 1, got $maxOutstanding")
+  require(addressBits >= 16 && addressBits <= 48, s"address width must be 16..48 bits, got $addressBits")
+}
+
+/** Widths of the indices that travel with operations. */
+final case class IndexParams(
+    queryBits: Int = 24, // query index width: up to 16 M queries per frame
+    nodeBits: Int = 22   // photon-tree node index width: up to 4 M photons
+) {
+  require(queryBits >= 1 && queryBits <= 31, s"query index width must be 1..31, got $queryBits")
+  require(nodeBits >= 1 && nodeBits <= 26, s"node index width must be 1..26 (the 8-byte node record's right-child field), got $nodeBits")
+}
+
+/** Everything that sizes one MAPM instance. Every field has a default; presets below. */
+final case class MapmParams(
+    counts: ModuleCounts = ModuleCounts(),   // TSM / SOM / SOA counts
+    numbers: NumberParams = NumberParams(),  // float format and guard digits
+    queues: QueueParams = QueueParams(),     // Register queue and reservation stations
+    caches: CachesParams = CachesParams(),   // cache geometry (Table 4.2)
+    memory: MemoryParams = MemoryParams(),   // memory port
+    indices: IndexParams = IndexParams()     // index widths
+) {
+  require(caches.tsL1.lineBytes <= caches.tsL2.lineBytes, "TS L1 line must not be longer than the TS L2 line")
+  require(caches.sopL1.lineBytes <= caches.sopL2.lineBytes, "SOP L1 line must not be longer than the SOP L2 line")
+  require(queues.registerQueueDepth >= 2 * counts.tsm,
+    s"Register queue depth ${queues.registerQueueDepth} must hold two children per TSM (at least ${2 * counts.tsm})")
+
+  /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`. */
+  def name: String = s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}"
+}
+
+object MapmParams {
+  /** A configuration of Table 4.8 (TSMs/SOMs/SOAs per SOM), everything else at its default. */
+  def table48(tsm: Int, som: Int, soa: Int): MapmParams = {
+    val p = MapmParams()
+    p.copy(counts = ModuleCounts(tsm, som, soa), queues = p.queues.copy(registerQueueDepth = math.max(64, 4 * tsm)))
+  }
+
+  /** The 24 configurations of Table 4.8, by label (e.g. "16/16/2"). */
+  val table48Configs: Seq[(Int, Int, Int)] = Seq(
+    (1, 1, 2), (1, 1, 3), (2, 1, 2), (2, 1, 3), (2, 2, 2), (2, 2, 3), (2, 3, 2), (2, 3, 3),
+    (4, 2, 2), (4, 2, 3), (4, 4, 2), (4, 4, 3), (4, 6, 2), (4, 6, 3), (8, 4, 2), (8, 4, 3),
+    (8, 8, 2), (8, 8, 3), (8, 12, 2), (8, 12, 3), (16, 8, 2), (16, 8, 3), (16, 16, 2), (16, 16, 3))
+
+  val presets: Map[String, MapmParams] =
+    table48Configs.map { case (t, s, a) => s"$t/$s/$a" -> table48(t, s, a) }.toMap
+
+  /** The default configuration: 16/16/2 at fp32, the dissertation's best throughput per area. */
+  val default: MapmParams = table48(16, 16, 2)
+}
