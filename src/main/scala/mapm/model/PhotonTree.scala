@@ -50,8 +50,8 @@ final class PhotonTree private (
   /** Left child index, -1 when there is none. */
   def left(i: Int): Int = if (hasLeft(i)) i + 1 else -1
   def isLeaf(i: Int): Boolean = !hasLeft(i) && !hasRight(i)
-  /** Number of levels (0 for an empty tree, 1 for a single leaf). */
-  val levels: Int = if (depth.isEmpty) 0 else depth.max + 1
+  /** Number of levels (0 for an empty tree, 1 for a single leaf); read after the build. */
+  lazy val levels: Int = if (depth.isEmpty) 0 else depth.max + 1
   /** Node photon position. */
   def position(i: Int): Vec3 = Vec3(x(i), y(i), z(i))
 }
