@@ -21,7 +21,9 @@ trait Command {
   */
 object Main {
   val commands: Seq[Command] = Seq(
-    FormatCommand
+    FormatCommand,
+    KdtreeCommand,
+    BenchSearchCommand
   )
 
   def usage: String = {
