@@ -21,6 +21,8 @@ trait Command {
   */
 object Main {
   val commands: Seq[Command] = Seq(
+    RenderCommand,
+    ModelCommand,
     FormatCommand,
     KdtreeCommand,
     BenchSearchCommand
