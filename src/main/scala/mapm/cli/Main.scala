@@ -21,7 +21,8 @@ trait Command {
   */
 object Main {
   val commands: Seq[Command] = Seq(
-    FormatCommand
+    FormatCommand,
+    EmitTsaCommand
   )
 
   def usage: String = {

@@ -37,7 +37,7 @@ class PipelinedComparator(width: Int) extends Module {
   val (done, result) = (0 until width).foldLeft((false.B, false.B)) { case ((doneIn, resultIn), j) =>
     val i = width - 1 - j
     val (r, d) = PipelinedComparator.compLogic(resultIn, io.a(i), io.b(i), io.c(i))
-    (RegNext(doneIn || d), RegNext(Mux(doneIn, resultIn, r)))
+    (RegNext(doneIn || d).suggestName(s"done_$j"), RegNext(Mux(doneIn, resultIn, r)).suggestName(s"result_$j"))
   }
   io.done := done
   io.result := result
