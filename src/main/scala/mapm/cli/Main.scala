@@ -22,7 +22,8 @@ trait Command {
 object Main {
   val commands: Seq[Command] = Seq(
     FormatCommand,
-    EmitTsaCommand
+    EmitTsaCommand,
+    TsaVectorsCommand
   )
 
   def usage: String = {
