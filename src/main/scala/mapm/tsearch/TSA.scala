@@ -100,10 +100,11 @@ class TSA(fmt: FloatFormat, tagWidth: Int) extends Module {
   val cmpR = Module(new PipelinedComparator(wordWidth)) // s - h < p, i.e. p + h > s
   cmpR.io.a := ss; cmpR.io.b := hs; cmpR.io.c := ps
 
-  val done = Pipe(stage1, wordWidth)
-  io.out.valid := done.valid
-  io.out.bits.tag := done.bits.tag
-  io.out.bits.error := done.bits.error
-  io.out.bits.tcl := cmpL.io.less || done.bits.error
-  io.out.bits.tcr := cmpR.io.less || done.bits.error
+  // Valid, tag and error beside the slices, leaving with the comparators' last stage.
+  val leaving = Pipe(stage1, wordWidth)
+  io.out.valid := leaving.valid
+  io.out.bits.tag := leaving.bits.tag
+  io.out.bits.error := leaving.bits.error
+  io.out.bits.tcl := cmpL.io.less || leaving.bits.error
+  io.out.bits.tcr := cmpR.io.less || leaving.bits.error
 }
