@@ -22,6 +22,8 @@ trait Command {
 object Main {
   val commands: Seq[Command] = Seq(
     FormatCommand,
+    KdtreeCommand,
+    BenchSearchCommand,
     EmitTsaCommand,
     TsaVectorsCommand
   )
