@@ -97,6 +97,17 @@ class TsaModelSpec extends AnyFunSuite {
     }
   }
 
+  test("agrees with the tree search's TreeCompare on 200,000 fp32 hard-case triples") {
+    val fmt = FloatFormat.fp32
+    val gen = new TsaReference.HardCases(fmt, seed = 99L)
+    for (_ <- 0 until 200000) {
+      val (p, h, s) = gen.next()
+      val (vp, vh, vs) = (fmt.decode(p), fmt.decode(h), fmt.decode(s))
+      assert(evaluate(fmt, p, h, s) == Outcome(TreeCompare.tcL(vp, vh, vs), TreeCompare.tcR(vp, vh, vs), error = false),
+        show(fmt, (p, h, s)))
+    }
+  }
+
   test("3.1.6 worked searches: TC_L and TC_R at every visited node (h = 100)") {
     val f = FloatFormat.fp32
     // (p, s, TC_L, TC_R) of the three example searches, in the order the nodes are examined.
