@@ -25,7 +25,9 @@ object Main {
     ModelCommand,
     FormatCommand,
     KdtreeCommand,
-    BenchSearchCommand
+    BenchSearchCommand,
+    EmitTsaCommand,
+    TsaVectorsCommand
   )
 
   def usage: String = {
