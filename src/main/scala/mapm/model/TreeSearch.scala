@@ -33,10 +33,14 @@ object NodeWord {
 
   /** Words of all nodes; a [[MapmError]] when the tree has more nodes than the index field holds. */
   def all(tree: PhotonTree): Array[Int] = {
-    MapmError.check(tree.size <= MaxNodes,
-      s"photon tree has ${tree.size} nodes; the node record's $IndexBits-bit right-child index holds at most $MaxNodes")
+    checkSize(tree.size.toLong)
     Array.tabulate(tree.size)(of(tree, _))
   }
+
+  /** A [[MapmError]] when a tree of `nodes` nodes has indices that the right-child field cannot hold. */
+  def checkSize(nodes: Long): Unit =
+    MapmError.check(nodes <= MaxNodes,
+      s"photon tree has $nodes nodes; the node record's $IndexBits-bit right-child index holds at most $MaxNodes (one node per photon)")
 }
 
 /** The two tree-search comparisons of dissertation 3.1.6 / 3.4.1, exact on their inputs:
