@@ -147,13 +147,14 @@ object Render {
     var tsOps = 0L
     var soOps = 0L
     var passing = 0L
-    private val passedScratch = new Array[Int](map.size)
-    private val fieldsScratch = new Array[Long](5 * map.size)
+    // per-query scratch: passing photons and their gathered shading fields (grown on demand)
+    private var passed = new Array[Int](1024)
+    private var fields = new Array[Long](5 * 1024)
 
     /** Runs queries order(from until until). */
     def runRange(order: Array[Int], from: Int, until: Int): Unit = {
       val searcher = this.searcher; val codec = this.codec; val arith = this.arith
-      val passed = passedScratch; val fields = fieldsScratch
+      var passed = this.passed; var fields = this.fields
       val pos = photons.value; val posBits = photons.bits; val rec = photons.shade
       val out = new Array[Long](3)
       var ts = 0L; var sos = 0L; var pass = 0L
@@ -169,6 +170,10 @@ object Render {
         val x = xs(q); val y = ys(q); val z = zs(q)
         searcher.search(x, y, z, hv)
         val n = searcher.soCount
+        if (n > passed.length) {
+          passed = new Array[Int](n); fields = new Array[Long](5 * n)
+          this.passed = passed; this.fields = fields
+        }
         // 1. cond for every SO; the passing ones, in order, into `passed` (no data-dependent
         //    branch on the common path, so the position loads of many SOs overlap)
         var m = 0
