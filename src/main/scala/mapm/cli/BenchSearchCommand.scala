@@ -8,8 +8,8 @@ import Args.FloatFormatReader
 /** `mapm bench-search`: speed of the model's tree search + shading on a synthetic workload.
   *
   * Photons and queries are uniform in a cube; h is chosen so that the cube of side 2h around a
-  * query holds about `--so-per-query` photons, which gives roughly that many shader operations per
-  * query. Prints the workload, then per repetition the shader operations and tree-search operations
+  * query holds about 0.55 x `--so-per-query` photons, which gives roughly `--so-per-query` shader
+  * operations per query (the search also issues SOs for nodes and leaves outside that cube). Prints the workload, then per repetition the shader operations and tree-search operations
   * per second of [[Render.run]] (search, cond, three colour channels, accumulation).
   */
 object BenchSearchCommand extends Command {
@@ -35,20 +35,28 @@ object BenchSearchCommand extends Command {
     val ph = Array.fill(photons)(Photon(pt(), Vec3(rnd.nextDouble(), rnd.nextDouble(), rnd.nextDouble()), Vec3(0, -1, 0), Vec3(0, 1, 0)))
     val pixels = 4096
     val qs = Array.fill(queries)(QueryPoint(pt(), rnd.nextInt(pixels), Vec3(rnd.nextDouble(), rnd.nextDouble(), rnd.nextDouble()), Vec3(0, 1, 0)))
-    val h = 0.5 * side * math.cbrt(soPerQuery / photons)
+    val h = 0.5 * side * math.cbrt(0.55 * soPerQuery / photons)
     val t0 = System.nanoTime()
     val map = PhotonMap.build(ph, Box(Vec3.zero, Vec3(side, side, side)), format, h)
     val qset = QuerySet.build(qs, format)
     val arith = ShadeArith.rounded(format)
     println(f"workload: $photons photons, $queries queries, h = $h%.4g, format $format, $threads thread(s); build ${(System.nanoTime() - t0) / 1e9}%.2f s")
     Render.run(map, qset, pixels, arith, threads) // warm-up (JIT)
+    val os = java.lang.management.ManagementFactory.getOperatingSystemMXBean match {
+      case o: com.sun.management.OperatingSystemMXBean => Some(o)
+      case _                                           => None
+    }
     for (rep <- 1 to repeat) {
       val t = System.nanoTime()
+      val c = os.map(_.getProcessCpuTime)
       val r = Render.run(map, qset, pixels, arith, threads)
       val s = (System.nanoTime() - t) / 1e9
+      val cpu = os.map(o => (o.getProcessCpuTime - c.get) / 1e9)
       val st = r.stats
       if (rep == 1) println(s"stats: ${st.describe}; ${f"${st.shaderOps.toDouble / queries}%.1f"} shader ops per query")
-      println(f"run $rep: $s%.3f s, ${st.shaderOps / s / 1e6}%.1f M shader ops/s, ${st.treeSearchOps / s / 1e6}%.1f M TS ops/s")
+      // CPU time shows what the run gets when other processes share the cores
+      val perCpu = cpu.map(x => f", CPU $x%.3f s: ${st.shaderOps / x / 1e6}%.1f M shader ops per CPU-second").getOrElse("")
+      println(f"run $rep: $s%.3f s, ${st.shaderOps / s / 1e6}%.1f M shader ops/s, ${st.treeSearchOps / s / 1e6}%.1f M TS ops/s$perCpu")
     }
     0
   }

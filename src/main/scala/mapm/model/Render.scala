@@ -61,16 +61,19 @@ object Render {
       i += 1
     }
     val sums = new Array[Double](3 * nq)
+    val order = spatialOrder(queries, map.tree.box)
     val next = new java.util.concurrent.atomic.AtomicInteger(0)
     val chunk = 256
     val bar = progress.map(new Progress(_, nq.toLong))
-    val workers = Array.fill(threads)(new Worker(map, queries, arith, sums))
+    val photons = new Photons(map)
+    val codec = new FormatBits(map.format)
+    val workers = Array.fill(threads)(new Worker(map, photons, queries, arith, sums, new TreeSearcher(map.search), codec))
     val ts = workers.map { w =>
       new Thread(() => {
         var start = next.getAndAdd(chunk)
         while (start < nq) {
           val end = math.min(nq, start + chunk)
-          w.runRange(start, end)
+          w.runRange(order, start, end)
           bar.foreach(_.advance((end - start).toLong))
           start = next.getAndAdd(chunk)
         }
@@ -93,46 +96,126 @@ object Render {
       workers.map(_.passing).sum, map.size, map.tree.levels))
   }
 
-  /** One thread's searcher, counters and shading loop; writes the per-query sums. */
-  private final class Worker(map: PhotonMap, queries: QuerySet, arith: ShadeArith, sums: Array[Double]) {
-    private val searcher = new TreeSearcher(map.search)
-    private val toDouble: Long => Double = arith match {
-      case r: RoundedShadeArith => r.toDouble
-      case _                    => map.format.decode
+  /** Query indices sorted along a Morton (Z-order) curve over `box`, so that consecutive queries
+    * are near each other and reuse the tree nodes and photons already in the cache. Only the
+    * processing order changes: each query's sum is computed alone and the image is reduced in
+    * query order. */
+  private def spatialOrder(queries: QuerySet, box: Box): Array[Int] = {
+    val ext = box.extent
+    def cell(v: Double, lo: Double, e: Double): Long =
+      if (e <= 0) 0L else math.max(0L, math.min(1023L, ((v - lo) / e * 1024).toLong))
+    def spread(v: Long): Long = { // bits 0..9 to 0, 3, 6, ..., 27
+      var r = 0L; var b = 0
+      while (b < 10) { r |= ((v >>> b) & 1L) << (3 * b); b += 1 }
+      r
     }
+    val keys = Array.tabulate(queries.size) { q =>
+      val m = spread(cell(queries.x(q), box.lo.x, ext.x)) | (spread(cell(queries.y(q), box.lo.y, ext.y)) << 1) |
+        (spread(cell(queries.z(q), box.lo.z, ext.z)) << 2)
+      (m << 32) | q.toLong
+    }
+    java.util.Arrays.sort(keys)
+    keys.map(k => (k & 0xffffffffL).toInt)
+  }
+
+  /** Photon fields side by side per node, so that a shader operation touches one place in memory:
+    * positions x, y, z as bits and as exact doubles (read by every shader operation), and power
+    * r, g, b, kernel, BRDF (read when cond holds). */
+  private final class Photons(map: PhotonMap) {
+    val n: Int = map.size
+    val bits: Array[Long] = new Array[Long](3 * n)
+    val value: Array[Double] = new Array[Double](3 * n)
+    val shade: Array[Long] = new Array[Long](5 * n)
+    for (i <- 0 until n) {
+      bits(3 * i) = map.px(i); bits(3 * i + 1) = map.py(i); bits(3 * i + 2) = map.pz(i)
+      for (k <- 0 until 3) value(3 * i + k) = map.format.decode(bits(3 * i + k))
+      val o = 5 * i
+      shade(o) = map.power(0)(i); shade(o + 1) = map.power(1)(i); shade(o + 2) = map.power(2)(i)
+      shade(o + 3) = map.kernel(i); shade(o + 4) = map.brdf(i)
+    }
+  }
+
+  /** One thread's searcher, counters and shading loop; writes the per-query sums.
+    *
+    * cond: with (lo, hi) from [[ShadeArith.condClearBounds]], a shader operation whose squared
+    * distance, computed in plain doubles from the exact values, is clearly below lo passes and one
+    * clearly above hi fails; only the others call [[ShadeArith.cond]]. The double value is within a
+    * relative 1e-15 (plus underflow, below 1e-300) of the exact one, far inside the 1e-12 margin.
+    */
+  private final class Worker(map: PhotonMap, photons: Photons, queries: QuerySet, arith: ShadeArith,
+                             sums: Array[Double], searcher: TreeSearcher, codec: FormatBits) {
     var tsOps = 0L
     var soOps = 0L
     var passing = 0L
+    // per-query scratch: passing photons and their gathered shading fields (grown on demand)
+    private var passed = new Array[Int](1024)
+    private var fields = new Array[Long](5 * 1024)
 
-    def runRange(from: Int, until: Int): Unit = {
+    /** Runs queries order(from until until). */
+    def runRange(order: Array[Int], from: Int, until: Int): Unit = {
+      val searcher = this.searcher; val codec = this.codec; val arith = this.arith
+      var passed = this.passed; var fields = this.fields
+      val pos = photons.value; val posBits = photons.bits; val rec = photons.shade
+      val out = new Array[Long](3)
+      var ts = 0L; var sos = 0L; var pass = 0L
       val h = map.h; val hv = map.hValue
-      val px = map.px; val py = map.py; val pz = map.pz
-      val pr = map.power(0); val pg = map.power(1); val pb = map.power(2)
-      val kernel = map.kernel; val brdf = map.brdf
+      val (lo, hi) = arith.condClearBounds(h)
       val so = searcher.so
-      var q = from
-      while (q < until) {
-        searcher.search(queries.x(q), queries.y(q), queries.z(q), hv)
-        val qx = queries.qx(q); val qy = queries.qy(q); val qz = queries.qz(q)
-        val cr = queries.contribution(0)(q); val cg = queries.contribution(1)(q); val cb = queries.contribution(2)(q)
-        var r = 0.0; var g = 0.0; var b = 0.0
-        var k = 0
+      val qxs = queries.qx; val qys = queries.qy; val qzs = queries.qz
+      val xs = queries.x; val ys = queries.y; val zs = queries.z
+      val crs = queries.contribution(0); val cgs = queries.contribution(1); val cbs = queries.contribution(2)
+      var t = from
+      while (t < until) {
+        val q = order(t)
+        val x = xs(q); val y = ys(q); val z = zs(q)
+        searcher.search(x, y, z, hv)
         val n = searcher.soCount
+        if (n > passed.length) {
+          passed = new Array[Int](n); fields = new Array[Long](5 * n)
+          this.passed = passed; this.fields = fields
+        }
+        // 1. cond for every SO; the passing ones, in order, into `passed` (no data-dependent
+        //    branch on the common path, so the position loads of many SOs overlap)
+        var m = 0
+        var k = 0
         while (k < n) {
           val i = so(k)
-          if (arith.cond(qx, qy, qz, px(i), py(i), pz(i), h)) {
-            r += toDouble(arith.color(kernel(i), brdf(i), h, pr(i), cr))
-            g += toDouble(arith.color(kernel(i), brdf(i), h, pg(i), cg))
-            b += toDouble(arith.color(kernel(i), brdf(i), h, pb(i), cb))
-            passing += 1
-          }
+          val o = 3 * i
+          val ex = x - pos(o); val ey = y - pos(o + 1); val ez = z - pos(o + 2)
+          val e2 = ex * ex + ey * ey + ez * ez
+          val clearIn = e2 * (1 + 1e-12) + 1e-300 < lo
+          val ok =
+            if (clearIn || e2 * (1 - 1e-12) > hi) clearIn
+            else arith.cond(qxs(q), qys(q), qzs(q), posBits(o), posBits(o + 1), posBits(o + 2), h)
+          passed(m) = i
+          m += (if (ok) 1 else 0)
           k += 1
         }
+        // 2. gather the shading fields of the passing photons (independent loads again)
+        var j = 0
+        while (j < m) {
+          val s = 5 * passed(j)
+          val d = 5 * j
+          fields(d) = rec(s); fields(d + 1) = rec(s + 1); fields(d + 2) = rec(s + 2); fields(d + 3) = rec(s + 3); fields(d + 4) = rec(s + 4)
+          j += 1
+        }
+        // 3. shade and accumulate in issue order
+        val cr = crs(q); val cg = cgs(q); val cb = cbs(q)
+        var r = 0.0; var g = 0.0; var b = 0.0
+        j = 0
+        while (j < m) {
+          val d = 5 * j
+          arith.shade(fields(d + 3), fields(d + 4), h, fields(d), fields(d + 1), fields(d + 2), cr, cg, cb, out)
+          r += codec.toDouble(out(0)); g += codec.toDouble(out(1)); b += codec.toDouble(out(2))
+          j += 1
+        }
+        pass += m
         sums(3 * q) = r; sums(3 * q + 1) = g; sums(3 * q + 2) = b
-        tsOps += searcher.tsCount
-        soOps += n
-        q += 1
+        ts += searcher.tsCount
+        sos += n
+        t += 1
       }
+      tsOps += ts; soOps += sos; passing += pass
     }
   }
 
@@ -144,14 +227,16 @@ object Render {
     val qi = Array.newBuilder[Int]; val ni = Array.newBuilder[Int]
     val col = Array.fill(3)(Array.newBuilder[Long]); val cd = Array.newBuilder[Boolean]
     var ts = 0L; var passing = 0L
+    val out = new Array[Long](3)
     for (q <- 0 until queries.size) {
       searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
       ts += searcher.tsCount
       for (k <- 0 until searcher.soCount) {
         val i = searcher.so(k)
         qi += q; ni += i
-        for (c <- 0 until 3)
-          col(c) += arith.color(map.kernel(i), map.brdf(i), map.h, map.power(c)(i), queries.contribution(c)(q))
+        arith.shade(map.kernel(i), map.brdf(i), map.h, map.power(0)(i), map.power(1)(i), map.power(2)(i),
+          queries.contribution(0)(q), queries.contribution(1)(q), queries.contribution(2)(q), out)
+        for (c <- 0 until 3) col(c) += out(c)
         val ok = arith.cond(queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h)
         cd += ok
         if (ok) passing += 1

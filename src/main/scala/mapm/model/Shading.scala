@@ -17,6 +17,18 @@ trait ShadeArith {
   def cond(qx: Long, qy: Long, qz: Long, px: Long, py: Long, pz: Long, h: Long): Boolean
   /** One colour channel of the shaded result, as a bit pattern of the format. */
   def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Long
+  /** The three channels of one shader operation into out(0), out(1), out(2) (red, green, blue).
+    * Must equal [[color]] per channel; an implementation may compute the shared kernel * BRDF / h
+    * part once, as the SOA does. */
+  def shade(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+            out: Array[Long]): Unit = {
+    out(0) = color(kernel, brdf, h, pr, cr); out(1) = color(kernel, brdf, h, pg, cg); out(2) = color(kernel, brdf, h, pb, cb)
+  }
+  /** Bounds (lo, hi) on the EXACT squared distance d2 = |q - p|^2 (of the format values) for radius
+    * h: [[cond]] is true whenever d2 < lo and false whenever d2 > hi. [[Render]] decides those clear
+    * cases with plain double arithmetic and calls [[cond]] only in between. The default promises
+    * nothing, so every shader operation goes through [[cond]]. */
+  def condClearBounds(h: Long): (Double, Double) = (Double.NegativeInfinity, Double.PositiveInfinity)
 }
 
 object ShadeArith {
@@ -24,6 +36,16 @@ object ShadeArith {
   def rounded(format: FloatFormat): ShadeArith = new RoundedShadeArith(format)
   /** The float64 reference path: the same, in binary64 (native double arithmetic). */
   def float64: ShadeArith = new RoundedShadeArith(FloatFormat.fp64)
+}
+
+object RoundedShadeArith {
+  /** `format` when the rounded path can do it exactly (see [[RoundedShadeArith]]), else a [[MapmError]]. */
+  def checked(format: FloatFormat): FloatFormat = {
+    MapmError.check(format == FloatFormat.fp64 || (2 * (format.manWidth + 1) + 2 <= 53 && format.expWidth <= 10),
+      s"format $format: the rounded shading path computes in binary64 and rounds each operation, which is exact " +
+        s"only for mantissa width <= 24 and exponent width <= 10 (or fp64 itself)")
+    format
+  }
 }
 
 /** Shader arithmetic with each operation rounded to the format (nearest, ties to even; results
@@ -37,6 +59,9 @@ object ShadeArith {
   * cond: R preserves the sign of an exact difference and d2 - h2 is zero only when d2 == h2, so
   * the last step is exactly the comparison d2 < h2. A square that overflows becomes +infinity,
   * which correctly fails the test; h^2 itself must fit (checked by [[PhotonMap]]).
+  * [[condClearBounds]]: each of the five roundings on the way to d2 is within a factor (1 -/+ u)
+  * (u = 2^-(manWidth+1)), and flushed terms add less than 5 smallest normals, so the chain's d2 lies
+  * within d2_exact * (1 -/+ u)^5 -/+ 5 * minNormal; bounds with (1 -/+ u)^6 and 8 * minNormal are safe.
   *
   * color: follows the SOA's output rules for zero and range: a zero kernel, BRDF, power or
   * contribution gives +0 (h must be non-zero), an overflowing result saturates to the largest
@@ -49,21 +74,29 @@ object ShadeArith {
   * covers every product and quotient of two format values, i.e. expWidth <= 10. fp64 itself is
   * allowed: its operations round once, natively. Other formats are a [[MapmError]].
   */
-final class RoundedShadeArith(val format: FloatFormat) extends ShadeArith {
-  private val m = format.manWidth
-  private val native = format == FloatFormat.fp64
-  MapmError.check(native || (2 * (m + 1) + 2 <= 53 && format.expWidth <= 10),
-    s"format $format: the rounded shading path computes in binary64 and rounds each operation, which is exact " +
-      s"only for mantissa width <= 24 and exponent width <= 10 (or fp64 itself)")
-  private val drop = 52 - m
-  private val dropMask = if (native) 0L else (1L << drop) - 1
-  private val halfMinus1 = if (native) 0L else (1L << (drop - 1)) - 1
-  private val minNormal = format.minNormal
-  private val maxFinite = format.maxFinite
-  private val maxBits = format.pack(0, format.expMax - 1, format.manMask)
-  private val bias = format.bias
-  private val manMask = format.manMask
-  private val expMax = format.expMax
+final class RoundedShadeArith private (
+    val format: FloatFormat,
+    // Constants of the format, as constructor parameters: plain fields (class-body vals would get
+    // -Xcheckinit accessors, which keep the JIT from inlining the per-operation code).
+    codec: FormatBits,
+    native: Boolean,
+    drop: Int,
+    dropMask: Long,
+    halfMinus1: Long,
+    minNormal: Double,
+    maxFinite: Double,
+    maxBits: Long,
+    signBit: Long,
+    condHi: Double,
+    condLo: Double,
+    condAbs: Double
+) extends ShadeArith {
+  def this(format: FloatFormat) = this(RoundedShadeArith.checked(format), new FormatBits(format), format == FloatFormat.fp64,
+    52 - format.manWidth, (1L << (52 - format.manWidth)) - 1, (1L << (52 - format.manWidth)) / 2 - 1 max 0L,
+    format.minNormal, format.maxFinite, format.pack(0, format.expMax - 1, format.manMask), 1L << (format.width - 1),
+    math.pow(1 + math.pow(2, -format.manWidth - 1), 6) * (1 + 1e-12),
+    math.pow(1 - math.pow(2, -format.manWidth - 1), 6) * (1 - 1e-12),
+    8 * format.minNormal)
 
   /** `d` rounded to the format: nearest even, flushed to a signed zero below the smallest normal,
     * an infinity of the same sign above the largest finite value. */
@@ -80,40 +113,44 @@ final class RoundedShadeArith(val format: FloatFormat) extends ShadeArith {
     else r
   }
 
-  /** Value of a bit pattern (exponent field 0 reads as a signed zero). */
-  def toDouble(bits: Long): Double = {
-    val e = (bits >>> m) & format.expMask
-    val sign = (bits >>> (format.width - 1)) & 1L
-    if (e == 0) { if (sign == 0) 0.0 else -0.0 }
-    else if (e == expMax) format.decode(bits)
-    else java.lang.Double.longBitsToDouble((sign << 63) | ((e - bias + 1023) << 52) | ((bits & manMask) << drop))
-  }
-
-  /** Bit pattern of a finite value already in the format (zero, or normal and in range). */
-  def toBits(d: Double): Long = {
-    val b = java.lang.Double.doubleToRawLongBits(d)
-    val sign = b >>> 63
-    val e = (b >>> 52) & 0x7ffL
-    if (e == 0) sign << (format.width - 1)
-    else (sign << (format.width - 1)) | ((e - 1023 + bias) << m) | ((b >>> drop) & manMask)
-  }
-
   def cond(qx: Long, qy: Long, qz: Long, px: Long, py: Long, pz: Long, h: Long): Boolean = {
-    val dx = round(toDouble(qx) - toDouble(px))
-    val dy = round(toDouble(qy) - toDouble(py))
-    val dz = round(toDouble(qz) - toDouble(pz))
-    val d2 = round(round(round(dx * dx) + round(dy * dy)) + round(dz * dz))
-    val hv = toDouble(h)
-    d2 < round(hv * hv)
+    val c = codec
+    val hv = c.toDouble(h)
+    val dx = round(c.toDouble(qx) - c.toDouble(px))
+    val dy = round(c.toDouble(qy) - c.toDouble(py))
+    val dz = round(c.toDouble(qz) - c.toDouble(pz))
+    round(round(round(dx * dx) + round(dy * dy)) + round(dz * dz)) < round(hv * hv)
   }
 
-  def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Long = {
-    val k = toDouble(kernel); val b = toDouble(brdf); val p = toDouble(power); val c = toDouble(contrib)
-    if (k == 0 || b == 0 || p == 0 || c == 0) return 0L
-    val r = round(round(round(round(k * b) / toDouble(h)) * p) * c)
+  override def condClearBounds(h: Long): (Double, Double) = {
+    val hv = codec.toDouble(h)
+    val h2 = round(hv * hv)
+    if (h2.isInfinite) super.condClearBounds(h) else ((h2 - condAbs) / condHi, (h2 + condAbs) / condLo)
+  }
+
+  /** t2 = R(R(kernel * BRDF) / h), the part shared by the three channels; 0 when a factor is 0. */
+  private def prefix(kernel: Long, brdf: Long, h: Long): Double = {
+    val k = codec.toDouble(kernel); val b = codec.toDouble(brdf)
+    if (k == 0 || b == 0) 0.0 else round(round(k * b) / codec.toDouble(h))
+  }
+
+  /** R(R(t2 * power) * contribution) with the output rules (zero, saturation). */
+  private def finish(t2: Double, power: Long, contrib: Long): Long = {
+    val p = codec.toDouble(power); val c = codec.toDouble(contrib)
+    if (t2 == 0 || p == 0 || c == 0) return 0L
+    val r = round(round(t2 * p) * c)
     if (r == 0) 0L
-    else if (r.isInfinite) maxBits | (if (r < 0) 1L << (format.width - 1) else 0L)
-    else toBits(r)
+    else if (r.isInfinite) maxBits | (if (r < 0) signBit else 0L)
+    else codec.toBits(r)
+  }
+
+  def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Long =
+    finish(prefix(kernel, brdf, h), power, contrib)
+
+  override def shade(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                     out: Array[Long]): Unit = {
+    val t2 = prefix(kernel, brdf, h)
+    out(0) = finish(t2, pr, cr); out(1) = finish(t2, pg, cg); out(2) = finish(t2, pb, cb)
   }
 }
 

@@ -33,10 +33,14 @@ object NodeWord {
 
   /** Words of all nodes; a [[MapmError]] when the tree has more nodes than the index field holds. */
   def all(tree: PhotonTree): Array[Int] = {
-    MapmError.check(tree.size <= MaxNodes,
-      s"photon tree has ${tree.size} nodes; the node record's $IndexBits-bit right-child index holds at most $MaxNodes")
+    checkSize(tree.size.toLong)
     Array.tabulate(tree.size)(of(tree, _))
   }
+
+  /** A [[MapmError]] when a tree of `nodes` nodes has indices that the right-child field cannot hold. */
+  def checkSize(nodes: Long): Unit =
+    MapmError.check(nodes <= MaxNodes,
+      s"photon tree has $nodes nodes; the node record's $IndexBits-bit right-child index holds at most $MaxNodes (one node per photon)")
 }
 
 /** The two tree-search comparisons of dissertation 3.1.6 / 3.4.1, exact on their inputs:
@@ -66,10 +70,19 @@ object TreeCompare {
 }
 
 /** The search structure of one photon tree: per-node [[NodeWord]]s and split values (the exact
-  * doubles of their format values). Shared, read-only, by any number of [[TreeSearcher]]s. */
-final class SearchTree(val word: Array[Int], val split: Array[Double]) {
-  require(word.length == split.length)
-  def size: Int = word.length
+  * doubles of their format values). Shared, read-only, by any number of [[TreeSearcher]]s.
+  * Stored side by side, `node(2i)` the split value's bits and `node(2i+1)` the word, so that a
+  * tree-search operation reads one place in memory. */
+final class SearchTree(words: Array[Int], splits: Array[Double]) {
+  require(words.length == splits.length)
+  val size: Int = words.length
+  val node: Array[Long] = {
+    val a = new Array[Long](2 * size)
+    for (i <- 0 until size) { a(2 * i) = java.lang.Double.doubleToRawLongBits(splits(i)); a(2 * i + 1) = words(i).toLong }
+    a
+  }
+  def word(i: Int): Int = node(2 * i + 1).toInt
+  def split(i: Int): Double = java.lang.Double.longBitsToDouble(node(2 * i))
 }
 
 /** Runs tree searches for one query at a time, exactly as the pseudo code of dissertation 3.1.6 /
@@ -96,8 +109,6 @@ final class SearchTree(val word: Array[Int], val split: Array[Double]) {
   * photon's coordinate, which makes the needed comparison true.
   */
 final class TreeSearcher(tree: SearchTree) {
-  private val word = tree.word
-  private val split = tree.split
   /** Visited nodes in order; doubles as the FIFO queue of pending searches (every node is queued at
     * most once per query, so the array never overflows). */
   val visited: Array[Int] = new Array[Int](tree.size)
@@ -108,18 +119,19 @@ final class TreeSearcher(tree: SearchTree) {
 
   /** Searches the tree for the query at (qx, qy, qz) with radius h (all exact format values). */
   def search(qx: Double, qy: Double, qz: Double, h: Double): Unit = {
+    val node = tree.node; val visited = this.visited; val so = this.so
     var nSo = 0
     var tail = 0
-    if (word.length > 0) {
+    if (node.length > 0) {
       visited(0) = 0
       tail = 1
       var head = 0
       while (head < tail) {
         val i = visited(head); head += 1
-        val w = word(i)
+        val s = java.lang.Double.longBitsToDouble(node(2 * i))
+        val w = node(2 * i + 1).toInt
         val a = w & NodeWord.AxisMask
         val p = if (a == 0) qx else if (a == 1) qy else qz
-        val s = split(i)
         val tcl = TreeCompare.tcL(p, h, s)
         val tcr = TreeCompare.tcR(p, h, s)
         if (tcl && (w & NodeWord.HasLeft) != 0) {

@@ -120,6 +120,11 @@ class ShadingSpec extends AnyFunSuite {
         val c = if (i % 11 == 0) 0.0 else value(rnd, f, -1, sp)
         val got = a.color(f.encode(k), f.encode(b), f.encode(h), f.encode(p), f.encode(c))
         assert(got == refColor(f, k, b, h, p, c), s"color k=$k b=$b h=$h p=$p c=$c")
+        val (p2, c2) = (value(rnd, f, 0, sp), value(rnd, f, -1, sp))
+        val out = new Array[Long](3)
+        val bits = Seq(k, b, h, p, p2, p, c, c2, c2).map(x => f.encode(x))
+        a.shade(bits(0), bits(1), bits(2), bits(3), bits(4), bits(5), bits(6), bits(7), bits(8), out)
+        assert(out.toSeq == Seq(got, refColor(f, k, b, h, p2, c2), refColor(f, k, b, h, p, c2)), "shade")
         val q = Seq.fill(3)(value(rnd, f, 2, if (wide) span / 2 else 2) * (if (rnd.nextBoolean()) 1 else -1))
         val ph = q.map(x => if (rnd.nextInt(4) == 0) x else x + f.quantize(value(rnd, f, 1, 3) * (if (rnd.nextBoolean()) 1 else -1)))
           .map(x => f.tryEncode(x).map(f.decode).getOrElse(0.0))
@@ -130,6 +135,59 @@ class ShadingSpec extends AnyFunSuite {
         }
       }
     }
+
+  for (f <- Seq(FloatFormat.fp16, FloatFormat(5, 3), FloatFormat.fp32, FloatFormat(4, 2)))
+    test(s"cond in $f equals the exact per-operation rounding where |q - p| is within a few ulps of h") {
+      val rnd = new scala.util.Random(f.width)
+      val a = new RoundedShadeArith(f)
+      var inside, outside = 0
+      for (_ <- 0 until 20000) {
+        val h = value(rnd, f, 1, 2)
+        val dx = f.quantize(h * (rnd.nextDouble() - 0.5)); val dy = f.quantize(h * (rnd.nextDouble() - 0.5))
+        val dz0 = math.sqrt(math.max(0, h * h - dx * dx - dy * dy))
+        val dz = f.tryEncode(dz0).map(b => f.decode(b + rnd.nextInt(7) - 3)).getOrElse(0.0).max(0.0)
+        val q = Seq.fill(3)(f.quantize(value(rnd, f, 2, 1)))
+        val p = q.zip(Seq(dx, dy, dz)).map { case (c, d) => f.quantize(c - d) }
+        if (f.tryEncode(h * h).isDefined) {
+          val bits = (q ++ p :+ h).map(x => f.encode(x))
+          val want = refCond(f, q, p, h)
+          if (want) inside += 1 else outside += 1
+          assert(a.cond(bits(0), bits(1), bits(2), bits(3), bits(4), bits(5), bits(6)) == want, s"cond q=$q p=$p h=$h")
+        }
+      }
+      assert(inside > 3000 && outside > 3000)
+    }
+
+  for (f <- Seq(FloatFormat.fp16, FloatFormat(5, 3), FloatFormat.fp32, FloatFormat(4, 2), FloatFormat.fp64))
+    test(s"condClearBounds in $f: cond is true below lo and false above hi (exact squared distance)") {
+      val rnd = new scala.util.Random(f.width + 100)
+      val a = new RoundedShadeArith(f)
+      var decided = 0
+      for (_ <- 0 until 20000) {
+        val h = value(rnd, f, 1, 2)
+        val scale = h * (0.5 + rnd.nextDouble())
+        val q = Seq.fill(3)(f.quantize(value(rnd, f, 2, 1)))
+        val p = q.map(c => f.quantize(c - scale * (rnd.nextDouble() - 0.5) * 1.3))
+        if (f.tryEncode(h * h).isDefined) {
+          val (lo, hi) = a.condClearBounds(f.encode(h))
+          assert(lo <= h * h && hi >= h * h && hi - lo <= h * h * (64 * math.pow(2, -f.manWidth) + 1e-11) + 64 * f.minNormal)
+          val d2 = q.zip(p).map { case (x, y) => val d = add(of(x), neg(of(y))); mul(d, d) }.reduce(add)
+          val want = refCond(f, q, p, h)
+          if (less(d2, of(lo))) { assert(want, s"below lo: q=$q p=$p h=$h"); decided += 1 }
+          if (less(of(hi), d2)) { assert(!want, s"above hi: q=$q p=$p h=$h"); decided += 1 }
+        }
+      }
+      assert(decided > (if (f.manWidth < 3) 10000 else 15000)) // e4m2's bounds are a factor 2 wide
+    }
+
+  test("the default condClearBounds decide nothing") {
+    val plain = new ShadeArith {
+      def format = FloatFormat.fp32
+      def cond(qx: Long, qy: Long, qz: Long, px: Long, py: Long, pz: Long, h: Long) = false
+      def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long) = 0L
+    }
+    assert(plain.condClearBounds(0x3f800000L) == ((Double.NegativeInfinity, Double.PositiveInfinity)))
+  }
 
   test("fp32 color equals the JVM's float arithmetic in the normal range") {
     val f = FloatFormat.fp32
