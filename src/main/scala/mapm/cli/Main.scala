@@ -21,7 +21,8 @@ trait Command {
   */
 object Main {
   val commands: Seq[Command] = Seq(
-    FormatCommand
+    FormatCommand,
+    SoaBenchCommand
   )
 
   def usage: String = {

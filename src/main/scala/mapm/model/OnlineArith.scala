@@ -22,13 +22,19 @@ object OnlineArith {
   /** Residual width of the divider: I = 2 integer bits, F = n fraction bits. */
   def divWidth(n: Int): Int = n + 2
 
-  /** Selection of the multiplier (SELM) on the 4-bit estimate in units of 1/4:
-    * +1 if v̂ ≥ 1/2, −1 if v̂ ≤ −3/4, else 0. */
-  @inline def selm(est: Int): Int = if (est >= 2) 1 else if (est <= -3) -1 else 0
+  // Implementation notes (both units). The loops are branch-free for speed: operand digits and
+  // bits are shifted out of the top of left-aligned Longs, a digit's weight is a mask that
+  // halves each iteration (and becomes 0 below 2^-n), and the selection functions are bit
+  // tables indexed by the estimate. Residual words may carry garbage above bit W−1 between the
+  // steps that mask them: a CSA and a left shift never move information downward, and the
+  // estimate keeps only the low I+t bits of its sum, so those bits never reach a result.
 
-  /** Selection of the divider (SELD) on the 5-bit estimate in units of 1/8:
-    * +1 if v̂ ≥ 1/4, −1 if v̂ ≤ −3/8, else 0. */
-  @inline def seld(est: Int): Int = if (est >= 2) 1 else if (est <= -3) -1 else 0
+  /** SELM as bit tables over the 4-bit estimate: +1 for 0010…0111, −1 for 1000…1101. */
+  private final val SelmPos = 0x00FC
+  private final val SelmNeg = 0x3F00
+  /** SELD as bit tables over the 5-bit estimate: +1 for 00010…01111, −1 for 10000…11101. */
+  private final val SeldPos = 0x0000FFFC
+  private final val SeldNeg = 0x3FFF0000
 
   /** Online multiplier, δ = 3, t = 2: x (signed digits, any length, missing digits 0) times the
     * n-bit binary operand y (bits y_1 … y_n held as bit n−1 … 0 of `y`). Returns the N = `digits`
@@ -37,50 +43,53 @@ object OnlineArith {
     * Iteration j = −3 … N−1 consumes a = x_(j+4), b = y_(j+4); the multiple terms are
     * A = b·X[j]·2^-3 (X converted on the fly, sign-extended) and B = a·Y[j+1]·2^-3 (a = −1:
     * the complement of Y over all W bits with a carry-in at VC bit 0); the [4:2] adder is
-    * CSA(CSA(2WS, 2WC, A), B) in exactly that order. */
+    * CSA(CSA(2WS, 2WC, A), B) in exactly that order; the top field of WS becomes v̂ − 4p and
+    * that of WC zero. */
   def mul(x: DigitString, y: Long, n: Int, digits: Int, obs: Observer = null): DigitString = {
     require(n >= 2 && n <= 53 && digits >= 1 && digits <= DigitString.MaxLength, s"online multiplier: n = $n, N = $digits")
     val w = mulWidth(n)
-    val mask = (1L << w) - 1
     val top = w - 4
     val low = (1L << top) - 1
-    val xp = x.pos; val xn = x.neg; val xl = x.length
+    val xl = x.length
+    var xp = if (xl == 0) 0L else x.pos << (64 - xl) // x_(j+4) is the top bit
+    var xn = if (xl == 0) 0L else x.neg << (64 - xl)
+    var yb = y << (64 - n)                             // y_(j+4) is the top bit
+    var wgt = 1L << (n - 1)                            // weight 2^-(j+4) in units of 2^-n
     var ws = 0L; var wc = 0L
-    var xv = 0L // X[j] in units of 2^-n (two's complement through the Long's sign)
+    var xv = 0L // X[j] in units of 2^-n, two's complement (on-the-fly conversion keeps this value)
     var yv = 0L // Y[j+1] in units of 2^-n
     var outP = 0L; var outN = 0L
+    var live = 0 // all ones once digits are selected (j ≥ 0)
     var j = -3
     while (j < digits) {
-      val idx = j + 4
-      var a = 0
-      if (idx <= xl) {
-        val sh = xl - idx
-        a = (((xp >>> sh) & 1L) - ((xn >>> sh) & 1L)).toInt
-      }
-      var ma = 0L
-      if (idx <= n && ((y >>> (n - idx)) & 1L) != 0L) {
-        yv |= 1L << (n - idx)
-        ma = xv & mask
-      }
-      val mb = if (a > 0) yv else if (a < 0) ~yv & mask else 0L
-      val s0 = (ws << 1) & mask
-      val c0 = (wc << 1) & mask
-      val s1 = s0 ^ c0 ^ ma
-      val c1 = (((s0 & c0) | (s0 & ma) | (c0 & ma)) << 1) & mask
-      val vs = s1 ^ c1 ^ mb
-      val vc = ((((s1 & c1) | (s1 & mb) | (c1 & mb)) << 1) & mask) | (if (a < 0) 1L else 0L)
+      if (j == 0) live = -1
+      val ap = xp >>> 63; val an = xn >>> 63
+      xp <<= 1; xn <<= 1
+      val b = yb >>> 63
+      yb <<= 1
+      yv |= wgt & -b
+      val ma = xv & -b
+      val mb = (yv & -ap) | (~yv & -an)
+      val s0 = ws << 1; val c0 = wc << 1
+      val u = s0 ^ c0
+      val s1 = u ^ ma
+      val c1 = ((s0 & c0) | (u & ma)) << 1
+      val u1 = s1 ^ c1
+      val vs = u1 ^ mb
+      val vc = (((s1 & c1) | (u1 & mb)) << 1) | an
       val e4 = (((vs >>> top) + (vc >>> top)) & 15L).toInt
-      val est = if (e4 >= 8) e4 - 16 else e4
-      val p = if (j < 0) 0 else selm(est)
-      ws = (vs & low) | (((est - 4 * p) & 15L) << top)
+      val pp = (SelmPos >>> e4) & 1 & live
+      val pn = (SelmNeg >>> e4) & 1 & live
+      ws = (vs & low) | (((e4 - 4 * (pp - pn)) & 15L) << top)
       wc = vc & low
-      if (p > 0) outP |= 1L << (digits - 1 - j)
-      else if (p < 0) outN |= 1L << (digits - 1 - j)
-      if (a != 0 && idx <= n) xv += a.toLong << (n - idx)
-      if (obs != null) obs.step(j, ws, wc, est, p)
+      xv += (wgt & -ap) - (wgt & -an)
+      wgt >>>= 1
+      outP = (outP << 1) | pp; outN = (outN << 1) | pn
+      if (obs != null) obs.step(j, ws, wc, (e4 << 28) >> 28, pp - pn)
       j += 1
     }
-    DigitString(outP, outN, digits)
+    val m = (1L << digits) - 1
+    DigitString(outP & m, outN & m, digits)
   }
 
   /** Online divider, δ = 4, t = 3: dividend x' (signed digits, any length, |x'| < d) over the
@@ -95,42 +104,46 @@ object OnlineArith {
     val w = divWidth(n)
     val mask = (1L << w) - 1
     val top = w - 5
-    val xp = x.pos; val xn = x.neg; val xl = x.length
+    val xl = x.length
+    var xp = if (xl == 0) 0L else x.pos << (64 - xl) // x'_(j+5) is the top bit
+    var xn = if (xl == 0) 0L else x.neg << (64 - xl)
+    var db = d << (64 - n)                             // d_(j+5) is the top bit
+    var wgt = 1L << (n - 1)                            // weight 2^-(j+5) in units of 2^-n
+    var wq = 1L << (n - 1)                             // weight 2^-(j+1)·2^-4 in units of 2^-n, from j = 0
     var ws = 0L; var wc = 0L
     var dv = 0L // D[j+1] in units of 2^-n
-    var qv = 0L // Q[j] in units of 2^-j (on-the-fly conversion keeps exactly this value)
+    var qt = 0L // Q[j]·2^-4 in units of 2^-n (exact while it matters: e = 0 once j > n − 5)
     var outP = 0L; var outN = 0L
+    var live = 0
     var j = -4
     while (j < digits) {
-      val idx = j + 5
-      var xd = 0L
-      if (idx <= xl) {
-        val sh = xl - idx
-        xd = ((xp >>> sh) & 1L) - ((xn >>> sh) & 1L)
-      }
-      val e = idx <= n && ((d >>> (n - idx)) & 1L) != 0L
-      // (x − e·Q[j])·2^-4 in units of 2^-n; e = 1 only for j ≤ n − 5, so the shift is ≥ 1.
-      val t = ((xd << (n - 4)) - (if (e) qv << (n - 4 - j) else 0L)) & mask
-      val s0 = (ws << 1) & mask
-      val c0 = (wc << 1) & mask
-      val vs = s0 ^ c0 ^ t
-      val vc = ((s0 & c0) | (s0 & t) | (c0 & t)) << 1 & mask
+      if (j == 0) live = -1
+      val xp1 = xp >>> 63; val xn1 = xn >>> 63
+      xp <<= 1; xn <<= 1
+      val e = db >>> 63
+      db <<= 1
+      val t = ((xp1 - xn1) << (n - 4)) - (qt & -e)
+      val s0 = ws << 1; val c0 = wc << 1
+      val u = s0 ^ c0
+      val vs = u ^ t
+      val vc = ((s0 & c0) | (u & t)) << 1
       val e5 = (((vs >>> top) + (vc >>> top)) & 31L).toInt
-      val est = if (e5 >= 16) e5 - 32 else e5
-      val q = if (j < 0) 0 else seld(est)
-      if (e) dv |= 1L << (n - idx)
-      val yv = if (q > 0) ~dv & mask else if (q < 0) dv else 0L
-      ws = vs ^ vc ^ yv
-      wc = ((((vs & vc) | (vs & yv) | (vc & yv)) << 1) & mask) | (if (q > 0) 1L else 0L)
-      if (j >= 0) {
-        qv = 2 * qv + q
-        if (q > 0) outP |= 1L << (digits - 1 - j)
-        else if (q < 0) outN |= 1L << (digits - 1 - j)
-      }
-      if (obs != null) obs.step(j, ws, wc, est, q)
+      val qp = (SeldPos >>> e5) & 1 & live
+      val qn = (SeldNeg >>> e5) & 1 & live
+      dv |= wgt & -e
+      wgt >>>= 1
+      val yv = (~dv & -qp) | (dv & -qn)
+      val u2 = vs ^ vc
+      ws = u2 ^ yv
+      wc = (((vs & vc) | (u2 & yv)) << 1) | qp
+      qt += (wq & -qp) - (wq & -qn)
+      wq >>>= 1
+      outP = (outP << 1) | qp; outN = (outN << 1) | qn
+      if (obs != null) obs.step(j, ws & mask, wc & mask, (e5 << 27) >> 27, qp - qn)
       j += 1
     }
-    DigitString(outP, outN, digits)
+    val m = (1L << digits) - 1
+    DigitString(outP & m, outN & m, digits)
   }
 
   /** The quasi-normalization step s of a quotient (shader-chain.md §3.2): 0 when the first two

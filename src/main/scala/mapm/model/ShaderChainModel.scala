@@ -54,18 +54,27 @@ final class ShaderChainModel(val format: FloatFormat, val g: Int) {
 
   /** One channel: the colour bits and flags (OVF = 1, UNF = 2, INV = 4). */
   def channel(f: Front, power: Long, contrib: Long): Result = {
-    val t = finish(f, power, contrib)
-    if (t == null) specialResult(f, power, contrib) else Result(t.bits, t.flags)
+    val special = specialFlags(f, power, contrib)
+    if (special >= 0) specialResult(special)
+    else {
+      val p3 = OnlineArith.mul(OnlineArith.mul(f.qn, sig(power), n, digits), sig(contrib), n, digits)
+      pack(f, power, contrib, p3, shiftOf(p3))
+    }
   }
 
   /** One channel with every intermediate value the test vectors carry. */
   def trace(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Trace = {
     val f = front(kernel, brdf, h)
-    val t = finish(f, power, contrib)
-    if (t != null) t
-    else {
-      val r = specialResult(f, power, contrib)
+    val special = specialFlags(f, power, contrib)
+    if (special >= 0) {
+      val r = specialResult(special)
       Trace(r.bits, r.flags, None)
+    } else {
+      val p2 = OnlineArith.mul(f.qn, sig(power), n, digits)
+      val p3 = OnlineArith.mul(p2, sig(contrib), n, digits)
+      val m = shiftOf(p3)
+      val r = pack(f, power, contrib, p3, m)
+      Trace(r.bits, r.flags, Some(Internals(f.s, m, exponent(f, power, contrib, m), f.p1, f.q, p2, p3)))
     }
   }
 
@@ -73,7 +82,7 @@ final class ShaderChainModel(val format: FloatFormat, val g: Int) {
   def colour(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Result =
     channel(front(kernel, brdf, h), power, contrib)
 
-  /** Rules 1 and 2 of §2 for the whole channel; -1 when neither applies. */
+  /** Rules 1 and 2 of §2 for the whole channel: their flags, or -1 when neither applies. */
   private def specialFlags(f: Front, power: Long, contrib: Long): Int = {
     val ep = format.expField(power); val ec = format.expField(contrib)
     if (f.special == SpecialInv || ep == expAllOnes || ec == expAllOnes) Flags.INV
@@ -84,29 +93,33 @@ final class ShaderChainModel(val format: FloatFormat, val g: Int) {
     } else -1
   }
 
-  private def specialResult(f: Front, power: Long, contrib: Long): Result = {
-    val fl = specialFlags(f, power, contrib)
-    if (fl == Flags.INV) Result(format.quietNaN, Flags.INV) else Result(0L, fl)
-  }
+  private def specialResult(flags: Int): Result =
+    if (flags == Flags.INV) Result(format.quietNaN, Flags.INV) else Result(0L, flags)
 
-  /** Rule 3 (MUL2, MUL3, normalization, packing), or null when rule 1 or 2 applies. */
-  private def finish(f: Front, power: Long, contrib: Long): Trace = {
-    if (specialFlags(f, power, contrib) >= 0) return null
-    val p2 = OnlineArith.mul(f.qn, sig(power), n, digits)
-    val p3 = OnlineArith.mul(p2, sig(contrib), n, digits)
+  /** The final normalization shift m: P3·2^m ∈ [1/2, 1). */
+  private def shiftOf(p3: DigitString): Int = {
     val v = p3.scaled
     val m = digits - (64 - java.lang.Long.numberOfLeadingZeros(v))
     if (v <= 0 || m > MaxShift)
       throw new IllegalStateException(s"shader chain: P3 = $p3 outside [2^-5, 1), which the chain's ranges exclude")
-    val shift = n + m - digits
-    val significand = if (shift >= 0) v << shift else v >>> -shift
-    val e = f.expSum + format.expField(power) + format.expField(contrib) - m
-    val sign = f.signs ^ format.sign(power) ^ format.sign(contrib)
-    val (bits, flags) =
-      if (e >= expAllOnes) (format.pack(sign, expAllOnes - 1, format.manMask), Flags.OVF)
-      else if (e <= 0) (0L, Flags.UNF)
-      else (format.pack(sign, e, significand & format.manMask), 0)
-    Trace(bits, flags, Some(Internals(f.s, m, e, f.p1, f.q, p2, p3)))
+    m
+  }
+
+  /** E_r = ΣE + 5 − 2^ew − s − m (before saturation or flush). */
+  private def exponent(f: Front, power: Long, contrib: Long, m: Int): Int =
+    f.expSum + format.expField(power) + format.expField(contrib) - m
+
+  /** Rule 3: truncation of P3·2^m to n bits, then saturation (3a), flush (3b) or packing (3c). */
+  private def pack(f: Front, power: Long, contrib: Long, p3: DigitString, m: Int): Result = {
+    val e = exponent(f, power, contrib, m)
+    if (e >= expAllOnes) Result(format.pack(f.signs ^ format.sign(power) ^ format.sign(contrib), expAllOnes - 1, format.manMask), Flags.OVF)
+    else if (e <= 0) Result(0L, Flags.UNF)
+    else {
+      val shift = n + m - digits
+      val v = p3.scaled
+      val significand = if (shift >= 0) v << shift else v >>> -shift
+      Result(format.pack(f.signs ^ format.sign(power) ^ format.sign(contrib), e, significand & format.manMask), 0)
+    }
   }
 
   /** The exact colour of finite inputs in Double arithmetic, for error measurement (decodes
