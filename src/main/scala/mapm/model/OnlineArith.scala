@@ -25,13 +25,17 @@ object OnlineArith {
   // Implementation notes (both units). The loops are branch-free for speed: operand digits and
   // bits are shifted out of the top of left-aligned Longs, a digit's weight is a mask that
   // halves each iteration (and becomes 0 below 2^-n), and the selection functions are bit
-  // tables indexed by the estimate. Residual words may carry garbage above bit W−1 between the
+  // tables indexed by the estimate (all-zero tables during the initialization iterations). Residual words may carry garbage above bit W−1 between the
   // steps that mask them: a CSA and a left shift never move information downward, and the
   // estimate keeps only the low I+t bits of its sum, so those bits never reach a result.
 
   /** SELM as bit tables over the 4-bit estimate: +1 for 0010…0111, −1 for 1000…1101. */
   private final val SelmPos = 0x00FC
   private final val SelmNeg = 0x3F00
+  /** The multiplier's new top field (v̂ − 4p) mod 16 by estimate, one nibble per value; and
+    * the identity table, for the initialization iterations where p = 0. */
+  private final val SelmTop = 0xFE10FEDC3210FE10L
+  private final val Identity4 = 0xFEDCBA9876543210L
   /** SELD as bit tables over the 5-bit estimate: +1 for 00010…01111, −1 for 10000…11101. */
   private final val SeldPos = 0x0000FFFC
   private final val SeldNeg = 0x3FFF0000
@@ -59,10 +63,10 @@ object OnlineArith {
     var xv = 0L // X[j] in units of 2^-n, two's complement (on-the-fly conversion keeps this value)
     var yv = 0L // Y[j+1] in units of 2^-n
     var outP = 0L; var outN = 0L
-    var live = 0 // all ones once digits are selected (j ≥ 0)
+    var tPos = 0; var tNeg = 0; var tTop = Identity4 // no selection while j < 0
     var j = -3
     while (j < digits) {
-      if (j == 0) live = -1
+      if (j == 0) { tPos = SelmPos; tNeg = SelmNeg; tTop = SelmTop }
       val ap = xp >>> 63; val an = xn >>> 63
       xp <<= 1; xn <<= 1
       val b = yb >>> 63
@@ -78,9 +82,9 @@ object OnlineArith {
       val vs = u1 ^ mb
       val vc = (((s1 & c1) | (u1 & mb)) << 1) | an
       val e4 = (((vs >>> top) + (vc >>> top)) & 15L).toInt
-      val pp = (SelmPos >>> e4) & 1 & live
-      val pn = (SelmNeg >>> e4) & 1 & live
-      ws = (vs & low) | (((e4 - 4 * (pp - pn)) & 15L) << top)
+      val pp = (tPos >>> e4) & 1
+      val pn = (tNeg >>> e4) & 1
+      ws = (vs & low) | (((tTop >>> (e4 << 2)) & 15L) << top)
       wc = vc & low
       xv += (wgt & -ap) - (wgt & -an)
       wgt >>>= 1
@@ -114,10 +118,10 @@ object OnlineArith {
     var dv = 0L // D[j+1] in units of 2^-n
     var qt = 0L // Q[j]·2^-4 in units of 2^-n (exact while it matters: e = 0 once j > n − 5)
     var outP = 0L; var outN = 0L
-    var live = 0
+    var tPos = 0; var tNeg = 0 // no selection while j < 0
     var j = -4
     while (j < digits) {
-      if (j == 0) live = -1
+      if (j == 0) { tPos = SeldPos; tNeg = SeldNeg }
       val xp1 = xp >>> 63; val xn1 = xn >>> 63
       xp <<= 1; xn <<= 1
       val e = db >>> 63
@@ -128,8 +132,8 @@ object OnlineArith {
       val vs = u ^ t
       val vc = ((s0 & c0) | (u & t)) << 1
       val e5 = (((vs >>> top) + (vc >>> top)) & 31L).toInt
-      val qp = (SeldPos >>> e5) & 1 & live
-      val qn = (SeldNeg >>> e5) & 1 & live
+      val qp = (tPos >>> e5) & 1
+      val qn = (tNeg >>> e5) & 1
       dv |= wgt & -e
       wgt >>>= 1
       val yv = (~dv & -qp) | (dv & -qn)
