@@ -22,7 +22,8 @@ trait Command {
 object Main {
   val commands: Seq[Command] = Seq(
     FormatCommand,
-    SoaBenchCommand
+    SoaBenchCommand,
+    EmitSoaCommand
   )
 
   def usage: String = {

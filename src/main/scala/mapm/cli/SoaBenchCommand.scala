@@ -17,7 +17,7 @@ object SoaBenchCommand extends Command {
   @main
   def soaBench(
       @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
-      @arg(doc = "guard digits per online unit") g: Int = 3,
+      @arg(name = "g", doc = "guard digits per online unit") g: Int = 3,
       @arg(doc = "random operations per timed pass (3 channels each)") ops: Int = 1000000,
       @arg(doc = "random seed") seed: Long = 1
   ): Int = {
