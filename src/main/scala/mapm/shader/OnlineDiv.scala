@@ -42,8 +42,8 @@ class OnlineDiv(n: Int, digits: Int, xLen: Int) extends Module {
   /** Bits d_1 … d_k of D held entering stage t: known (i < t) and reaching a digit (d_i matters
     * in stage t < N+4 when i ≤ 3 + 3·(N+4 − t); the last stage's second CSA is dead). */
   private def dHeld(t: Int): Int = if (t >= stages) 0 else math.min(math.min(t - 1, n), 3 + 3 * (stages - t))
-  /** Fraction bits of QM held entering stage t ≤ n (Q[j] has t − 5; bit i matters when
-    * i ≤ 3·(N+4 − t)). */
+  /** Fraction bits of Q/QM held entering stage t ≤ n (Q[j] has t − 5; bit i matters when
+    * i ≤ 3·(N+4 − t)). Later digits still update the held bits through borrows. */
   private def qHeld(t: Int): Int = math.max(0, math.min(t - 5, 3 * (stages - t)))
 
   // State entering stage s: residual bits W−2 … 0 (live ones registered, zeros below), D, and
@@ -96,14 +96,8 @@ class OnlineDiv(n: Int, digits: Int, xLen: Int) extends Module {
       wc = keepResidual(nc | sel.isPlus.asUInt, s + 1)
       dBits = if (dHeld(s + 1) == 0) None else Some(StageReg(dNow >> (dNow.getWidth - dHeld(s + 1))))
       if (j >= 0 && s + 1 <= n) {
-        val keep = qHeld(s + 1)
-        if (keep == j + 1) {
-          val (nq, nqm) = OnTheFly.append(q, qm, sel)
-          q = StageReg(nq); qm = StageReg(nqm)
-        } else {
-          val drop = qm.getWidth - 1 - keep
-          qm = StageReg(qm >> drop)
-        }
+        val (nq, nqm) = OnTheFly.appendKeeping(q, qm, sel, qHeld(s + 1))
+        q = StageReg(nq); qm = StageReg(nqm)
       }
     }
   }

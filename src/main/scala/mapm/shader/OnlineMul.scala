@@ -44,7 +44,7 @@ class OnlineMul(n: Int, digits: Int, xLen: Int) extends Module {
     * t when i ≤ 3·(N+3 − t)) and are known (i < t). */
   private def yHeld(t: Int): Int = math.min(math.min(t - 1, n), 3 * (stages - t))
   /** Fraction bits of X held entering stage t ≤ n (X[j] has t − 1; bit i matters when
-    * i ≤ 1 + 3·(N+3 − t)). */
+    * i ≤ 1 + 3·(N+3 − t)). Later digits still update the held bits through borrows. */
   private def xHeld(t: Int): Int = math.min(t - 1, 1 + 3 * (stages - t))
 
   // State entering stage s: residual bits W−2 … 0 (live ones registered, zeros below), X/XM
@@ -97,13 +97,8 @@ class OnlineMul(n: Int, digits: Int, xLen: Int) extends Module {
       wc = CarrySave.keep(vc, math.min(w - 5, liveHigh(s + 1)), liveLow(s + 1), w - 1) // WC's top field is 0
       if (s + 1 <= n) {
         val keep = xHeld(s + 1)
-        if (keep == s) {
-          val (nq, nqm) = OnTheFly.append(xq, xqm, a)
-          xq = StageReg(nq); xqm = StageReg(nqm)
-        } else {
-          val drop = xq.getWidth - 1 - keep
-          xq = StageReg(xq >> drop); xqm = StageReg(xqm >> drop)
-        }
+        val (nq, nqm) = OnTheFly.appendKeeping(xq, xqm, a, keep)
+        xq = StageReg(nq); xqm = StageReg(nqm)
       }
       yBits =
         if (s + 1 > xLen || yHeld(s + 1) == 0) None

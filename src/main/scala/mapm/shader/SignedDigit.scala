@@ -58,6 +58,21 @@ object OnTheFly {
     val nqm = Mux(d.isPlus, Cat(q, 0.U(1.W)), Cat(qm, !d.isMinus))
     (nq, nqm)
   }
+
+  /** [[append]] followed by truncation to the `keep` leading fraction bits, for registers whose
+    * low bits can no longer reach a result. Once the new digit's position lies below them, it
+    * still selects between Q and QM (a borrow or carry can change every held bit), so the
+    * update is the same choice without the appended bits: Q' = (d = −1 ? QM : Q) and
+    * QM' = (d = +1 ? Q : QM), truncated. */
+  def appendKeeping(q: UInt, qm: UInt, d: SignedDigit, keep: Int): (UInt, UInt) = {
+    val held = q.getWidth - 1
+    require(keep <= held + 1, s"cannot keep $keep fraction bits after appending to $held")
+    if (keep == held + 1) append(q, qm, d)
+    else {
+      val drop = held - keep
+      (Mux(d.isMinus, qm, q) >> drop, Mux(d.isPlus, q, qm) >> drop)
+    }
+  }
 }
 
 /** A register that keeps the exact type and width of its input (`RegNext` leaves widths to
