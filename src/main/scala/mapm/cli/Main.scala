@@ -23,7 +23,8 @@ object Main {
   val commands: Seq[Command] = Seq(
     FormatCommand,
     SoaBenchCommand,
-    EmitSoaCommand
+    EmitSoaCommand,
+    SoaVectorsCommand
   )
 
   def usage: String = {

@@ -63,10 +63,10 @@ object OnlineArith {
     var xv = 0L // X[j] in units of 2^-n, two's complement (on-the-fly conversion keeps this value)
     var yv = 0L // Y[j+1] in units of 2^-n
     var outP = 0L; var outN = 0L
-    var tPos = 0; var tNeg = 0; var tTop = Identity4 // no selection while j < 0
+    var tSel = 0; var tTop = Identity4 // no selection while j < 0; then SELM (−1 table above bit 16)
     var j = -3
     while (j < digits) {
-      if (j == 0) { tPos = SelmPos; tNeg = SelmNeg; tTop = SelmTop }
+      if (j == 0) { tSel = SelmPos | (SelmNeg << 16); tTop = SelmTop }
       val ap = xp >>> 63; val an = xn >>> 63
       xp <<= 1; xn <<= 1
       val b = yb >>> 63
@@ -82,8 +82,8 @@ object OnlineArith {
       val vs = u1 ^ mb
       val vc = (((s1 & c1) | (u1 & mb)) << 1) | an
       val e4 = (((vs >>> top) + (vc >>> top)) & 15L).toInt
-      val pp = (tPos >>> e4) & 1
-      val pn = (tNeg >>> e4) & 1
+      val pp = (tSel >>> e4) & 1
+      val pn = (tSel >>> (e4 + 16)) & 1
       ws = (vs & low) | (((tTop >>> (e4 << 2)) & 15L) << top)
       wc = vc & low
       xv += (wgt & -ap) - (wgt & -an)
@@ -118,10 +118,10 @@ object OnlineArith {
     var dv = 0L // D[j+1] in units of 2^-n
     var qt = 0L // Q[j]·2^-4 in units of 2^-n (exact while it matters: e = 0 once j > n − 5)
     var outP = 0L; var outN = 0L
-    var tPos = 0; var tNeg = 0 // no selection while j < 0
+    var tPos = 0L // no selection while j < 0; then SELD's +1 table, its −1 table above bit 32
     var j = -4
     while (j < digits) {
-      if (j == 0) { tPos = SeldPos; tNeg = SeldNeg }
+      if (j == 0) tPos = SeldPos | (SeldNeg.toLong << 32)
       val xp1 = xp >>> 63; val xn1 = xn >>> 63
       xp <<= 1; xn <<= 1
       val e = db >>> 63
@@ -132,8 +132,8 @@ object OnlineArith {
       val vs = u ^ t
       val vc = ((s0 & c0) | (u & t)) << 1
       val e5 = (((vs >>> top) + (vc >>> top)) & 31L).toInt
-      val qp = (tPos >>> e5) & 1
-      val qn = (tNeg >>> e5) & 1
+      val qp = (tPos >>> e5) & 1L
+      val qn = (tPos >>> (e5 + 32)) & 1L
       dv |= wgt & -e
       wgt >>>= 1
       val yv = (~dv & -qp) | (dv & -qn)
@@ -143,7 +143,7 @@ object OnlineArith {
       qt += (wq & -qp) - (wq & -qn)
       wq >>>= 1
       outP = (outP << 1) | qp; outN = (outN << 1) | qn
-      if (obs != null) obs.step(j, ws & mask, wc & mask, (e5 << 27) >> 27, qp - qn)
+      if (obs != null) obs.step(j, ws & mask, wc & mask, (e5 << 27) >> 27, (qp - qn).toInt)
       j += 1
     }
     val m = (1L << digits) - 1
