@@ -42,9 +42,13 @@ class OnlineDiv(n: Int, digits: Int, xLen: Int) extends Module {
   /** Bits d_1 … d_k of D held entering stage t: known (i < t) and reaching a digit (d_i matters
     * in stage t < N+4 when i ≤ 3 + 3·(N+4 − t); the last stage's second CSA is dead). */
   private def dHeld(t: Int): Int = if (t >= stages) 0 else math.min(math.min(t - 1, n), 3 + 3 * (stages - t))
-  /** Fraction bits of Q/QM held entering stage t ≤ n (Q[j] has t − 5; bit i matters when
+  /** Fraction bits of QM held entering stage t ≤ n (Q[j] has t − 5; bit i matters when
     * i ≤ 3·(N+4 − t)). Later digits still update the held bits through borrows. */
   private def qHeld(t: Int): Int = math.max(0, math.min(t - 5, 3 * (stages - t)))
+  /** Fraction bits of Q held entering stage t ≤ n: Q only updates Q and QM (T reads QM), so all
+    * of QM's while stage t appends a digit, else those that Q and QM keep after stage t. */
+  private def qOnlyHeld(t: Int): Int =
+    if (t + 1 > n) 0 else if (qHeld(t + 1) == t - 4) qHeld(t) else qHeld(t + 1)
 
   // State entering stage s: residual bits W−2 … 0 (live ones registered, zeros below), D, and
   // while a later stage may still see e = 1 (s ≤ n), Q/QM with qHeld(s) fraction bits.
@@ -96,7 +100,7 @@ class OnlineDiv(n: Int, digits: Int, xLen: Int) extends Module {
       wc = keepResidual(nc | sel.isPlus.asUInt, s + 1)
       dBits = if (dHeld(s + 1) == 0) None else Some(StageReg(dNow >> (dNow.getWidth - dHeld(s + 1))))
       if (j >= 0 && s + 1 <= n) {
-        val (nq, nqm) = OnTheFly.appendKeeping(q, qm, sel, qHeld(s + 1))
+        val (nq, nqm) = OnTheFly.appendKeeping(q, qm, sel, qOnlyHeld(s + 1), qHeld(s + 1))
         q = StageReg(nq); qm = StageReg(nqm)
       }
     }

@@ -46,6 +46,10 @@ class OnlineMul(n: Int, digits: Int, xLen: Int) extends Module {
   /** Fraction bits of X held entering stage t ≤ n (X[j] has t − 1; bit i matters when
     * i ≤ 1 + 3·(N+3 − t)). Later digits still update the held bits through borrows. */
   private def xHeld(t: Int): Int = math.min(t - 1, 1 + 3 * (stages - t))
+  /** Fraction bits of XM held entering stage t ≤ n: XM only updates X and itself, so all of X's
+    * while stage t appends a digit, else those that X and XM keep after stage t. */
+  private def xmHeld(t: Int): Int =
+    if (t + 1 > n) 0 else if (xHeld(t + 1) == t) xHeld(t) else xHeld(t + 1)
 
   // State entering stage s: residual bits W−2 … 0 (live ones registered, zeros below), X/XM
   // (sign and xHeld(s) fraction bits, while s ≤ n) and Y = y_1 … y_yHeld(s) (while s ≤ xLen).
@@ -96,8 +100,7 @@ class OnlineMul(n: Int, digits: Int, xLen: Int) extends Module {
       ws = keepResidual(Cat(top, vs(w - 5, 0)), s + 1)
       wc = CarrySave.keep(vc, math.min(w - 5, liveHigh(s + 1)), liveLow(s + 1), w - 1) // WC's top field is 0
       if (s + 1 <= n) {
-        val keep = xHeld(s + 1)
-        val (nq, nqm) = OnTheFly.appendKeeping(xq, xqm, a, keep)
+        val (nq, nqm) = OnTheFly.appendKeeping(xq, xqm, a, xHeld(s + 1), xmHeld(s + 1))
         xq = StageReg(nq); xqm = StageReg(nqm)
       }
       yBits =

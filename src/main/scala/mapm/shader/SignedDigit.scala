@@ -59,18 +59,20 @@ object OnTheFly {
     (nq, nqm)
   }
 
-  /** [[append]] followed by truncation to the `keep` leading fraction bits, for registers whose
-    * low bits can no longer reach a result. Once the new digit's position lies below them, it
-    * still selects between Q and QM (a borrow or carry can change every held bit), so the
-    * update is the same choice without the appended bits: Q' = (d = −1 ? QM : Q) and
-    * QM' = (d = +1 ? Q : QM), truncated. */
-  def appendKeeping(q: UInt, qm: UInt, d: SignedDigit, keep: Int): (UInt, UInt) = {
-    val held = q.getWidth - 1
-    require(keep <= held + 1, s"cannot keep $keep fraction bits after appending to $held")
-    if (keep == held + 1) append(q, qm, d)
-    else {
-      val drop = held - keep
-      (Mux(d.isMinus, qm, q) >> drop, Mux(d.isPlus, q, qm) >> drop)
+  /** [[append]] followed by truncation of Q to `keepQ` and QM to `keepQm` leading fraction
+    * bits, for registers whose low bits can no longer reach a result. When neither keeps the
+    * new digit's position, the digit still selects between Q and QM (a borrow or carry can
+    * change every held bit): Q' = (d = −1 ? QM : Q) and QM' = (d = +1 ? Q : QM), truncated. */
+  def appendKeeping(q: UInt, qm: UInt, d: SignedDigit, keepQ: Int, keepQm: Int): (UInt, UInt) = {
+    def trunc(v: UInt, k: Int): UInt = v >> (v.getWidth - 1 - k) // sign and k fraction bits
+    val (fq, fqm) = (q.getWidth - 1, qm.getWidth - 1)
+    if (keepQ > fq || keepQm > fqm) {
+      require(fq == fqm && keepQ <= fq + 1 && keepQm <= fq + 1, s"on-the-fly append: $fq/$fqm bits, keep $keepQ/$keepQm")
+      val (nq, nqm) = append(q, qm, d)
+      (trunc(nq, keepQ), trunc(nqm, keepQm))
+    } else {
+      require(keepQ <= fqm && keepQm <= fq, s"on-the-fly update: $fq/$fqm bits, keep $keepQ/$keepQm")
+      (Mux(d.isMinus, trunc(qm, keepQ), trunc(q, keepQ)), Mux(d.isPlus, trunc(q, keepQm), trunc(qm, keepQm)))
     }
   }
 }

@@ -9,7 +9,9 @@ import scala.sys.process._
 /** Verilator's lint (`--lint-only -Wall`) on the emitted SystemVerilog of the shader chain.
   * One waiver: DECLFILENAME, because CIRCT writes every module of the design into one file. */
 class ShaderChainLintSpec extends AnyFunSuite {
-  for ((f, g) <- Seq((FloatFormat.fp32, 0), (FloatFormat.fp32, 3), (FloatFormat.fp16, 2), (FloatFormat(5, 4), 0)))
+  private val configs = Seq(FloatFormat.fp32 -> 0, FloatFormat.fp32 -> 2, FloatFormat.fp32 -> 3, FloatFormat.fp16 -> 0,
+    FloatFormat.fp16 -> 2, FloatFormat.fp16 -> 3, FloatFormat.bf16 -> 3, FloatFormat.fp64 -> 3, FloatFormat(5, 4) -> 0)
+  for ((f, g) <- configs)
     test(s"ShaderChain $f g = $g passes verilator --lint-only -Wall") {
       val dir = Files.createTempDirectory("soa-lint")
       val top = s"ShaderChain_${f.name}_g$g"
