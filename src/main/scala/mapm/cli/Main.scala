@@ -21,10 +21,16 @@ trait Command {
   */
 object Main {
   val commands: Seq[Command] = Seq(
+    RenderCommand,
+    ModelCommand,
     FormatCommand,
-    SoaBenchCommand,
+    KdtreeCommand,
+    BenchSearchCommand,
+    EmitTsaCommand,
+    TsaVectorsCommand,
     EmitSoaCommand,
-    SoaVectorsCommand
+    SoaVectorsCommand,
+    SoaBenchCommand
   )
 
   def usage: String = {

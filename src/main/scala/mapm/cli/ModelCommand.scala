@@ -1,0 +1,21 @@
+package mapm.cli
+
+import mainargs.{ParserForMethods, arg, main}
+import mapm.model.{FloatFormat, Parallel}
+import Args.FloatFormatReader
+
+/** `mapm model`: the software render of a scene (see [[ModelRun]]). */
+object ModelCommand extends Command {
+  val name = "model"
+  val summary = "software render of a scene: PNG, PFM and stats JSON from the model"
+
+  @main
+  def model(
+      @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
+      @arg(doc = "number format: fp32, bf16, fp16, fp24 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
+      @arg(doc = "output folder") out: String = "out",
+      @arg(doc = "worker threads") threads: Int = Parallel.defaultThreads
+  ): Int = { ModelRun.run(scene, format, out, threads); 0 }
+
+  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+}

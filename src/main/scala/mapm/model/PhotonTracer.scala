@@ -1,0 +1,113 @@
+package mapm.model
+
+import scala.collection.mutable
+
+import mapm.MapmError
+
+/** Photon tracing (3.1.4 step 2): the photons the photon map is built from.
+  *
+  * Lights are the point lights and every emissive, non-degenerate triangle (an area light of power
+  * pi * area * Ke, emitting from its front side). Each photon path picks one light with probability
+  * proportional to its power (the sum of its RGB channels) and starts from it:
+  *  - point light: from its position, in a direction uniform over the sphere;
+  *  - area light: from a point uniform over the triangle, cosine-weighted about its front normal.
+  * The path carries power `P_light / p_pick`. At EVERY surface hit a [[Photon]] is stored (position,
+  * the power it carries, its direction of travel, the surface normal facing it); then Russian
+  * roulette lets it go on with probability `p = max(Kd)` and power scaled by `Kd / p`, in a
+  * cosine-weighted direction about that normal. A path stores at most `maxBounces` photons; a photon
+  * that leaves the scene is lost.
+  *
+  * Paths are traced until exactly `photons` photons are stored (the last path is cut off there); if
+  * that took `E` paths, every photon's power is divided by `E`, so the photons together carry the
+  * lights' total power once. Path k draws from its own random stream (seed, k), so the photons
+  * depend only on the seed, never on the thread count.
+  */
+object PhotonTracer {
+  /** @param photons      the stored photons, in path order
+    * @param emittedPaths number of photon paths traced to store them (the divisor of their power) */
+  final case class Result(photons: Array[Photon], emittedPaths: Long)
+
+  /** Traces photons into `tree`'s scene from `pointLights` and its emissive triangles. */
+  def trace(tree: TriKdTree, pointLights: Seq[PointLight], photons: Int, maxBounces: Int, seed: Long,
+            threads: Int = Parallel.defaultThreads): Result = {
+    MapmError.check(photons >= 0, s"photon count must be >= 0, got $photons")
+    MapmError.check(maxBounces >= 1, s"maxBounces must be >= 1, got $maxBounces")
+    if (photons == 0) return Result(Array.empty, 0)
+    val scene = tree.scene
+    val areaPower = scene.emitters.map { i =>
+      val t = scene.triangles(i); scene.materials(t.material).ke * (math.Pi * t.area)
+    }
+    val weights = pointLights.map(l => l.power.x + l.power.y + l.power.z) ++ areaPower.map(p => p.x + p.y + p.z)
+    MapmError.check(weights.sum > 0, "the scene has no light: give a point light or an emissive material (Ke)")
+    val cdf = Sampling.cumulative(weights)
+    val total = cdf.last
+    val nPoint = pointLights.size
+
+    val queries = new ThreadLocal[TriKdTree.Query] { override def initialValue() = tree.query() }
+
+    /** Photons of path k with their un-normalised power. */
+    def path(k: Long): Array[Photon] = {
+      val q = queries.get
+      val rnd = Sampling.rng(seed, Sampling.PhotonStream, k)
+      val li = Sampling.pick(cdf, rnd)
+      val prob = weights(li) / total
+      var o: Vec3 = null
+      var d: Vec3 = null
+      var power: Vec3 = null
+      if (li < nPoint) {
+        val l = pointLights(li)
+        o = l.position; d = Sampling.uniformSphere(rnd); power = l.power / prob
+      } else {
+        val ti = scene.emitters(li - nPoint)
+        val n = tree.normals(ti)
+        o = Sampling.pointOnTriangle(scene.triangles(ti), rnd) + n * scene.rayOffset
+        d = Sampling.cosineHemisphere(n, rnd)
+        power = areaPower(li - nPoint) / prob
+      }
+      val out = Array.newBuilder[Photon]
+      var bounce = 0
+      while (bounce < maxBounces && q.nearest(o, d)) {
+        val pos = scene.clampToBounds(o + d * q.t)
+        val g = tree.normals(q.triangle)
+        val n = if (g.dot(d) > 0) -g else g
+        out += Photon(pos, power, d, n)
+        bounce += 1
+        if (bounce < maxBounces) {
+          val kd = scene.material(q.triangle).kd
+          val survive = kd.maxComponent
+          if (rnd.nextDouble() < survive) {
+            power = power.mul(kd) / survive
+            d = Sampling.cosineHemisphere(n, rnd)
+            o = pos + n * scene.rayOffset
+          } else bounce = maxBounces
+        }
+      }
+      out.result()
+    }
+
+    val stored = mutable.ArrayBuffer.empty[Photon]
+    stored.sizeHint(photons)
+    val maxPaths = math.max(1000000L, 100L * photons)
+    var next = 0L
+    var emitted = 0L
+    while (stored.size < photons) {
+      MapmError.check(next < maxPaths,
+        s"photon tracing stored only ${stored.size} of $photons photons in $next paths: the lights hardly reach the geometry")
+      val perPath = if (next == 0) 1.0 else math.max(1e-4, stored.size.toDouble / next) // photons per path so far
+      val batch = math.min(math.min(maxPaths - next, 1L << 20), ((photons - stored.size) / perPath * 1.05).toLong + 64).toInt
+      val results = new Array[Array[Photon]](batch)
+      val base = next
+      Parallel.forRange(batch, threads) { k => results(k) = path(base + k) }
+      var k = 0
+      while (k < batch && stored.size < photons) {
+        val r = results(k)
+        stored ++= r.iterator.take(photons - stored.size)
+        if (stored.size == photons) emitted = base + k + 1
+        k += 1
+      }
+      next += batch
+    }
+    val scale = 1.0 / emitted
+    Result(stored.iterator.map(p => p.copy(power = p.power * scale)).toArray, emitted)
+  }
+}

@@ -1,0 +1,140 @@
+package mapm.model
+
+import mapm.MapmError
+
+/** Packing of a KD node's structure into one 32-bit word. The model's tree search reads it, and the
+  * memory image stores it as the second half of each 8-byte node record (docs/memory-layout.md).
+  *
+  * bits 1..0 split axis (0 = x, 1 = y, 2 = z); bit 2 has-left; bit 3 has-right; bit 4 left child is
+  * a leaf; bit 5 right child is a leaf; bits 31..6 right child index (0 when there is none). The
+  * left child, when present, is always the next node (pre-order numbering).
+  */
+object NodeWord {
+  final val AxisMask = 3
+  final val HasLeft = 1 << 2
+  final val HasRight = 1 << 3
+  final val LeftIsLeaf = 1 << 4
+  final val RightIsLeaf = 1 << 5
+  final val RightShift = 6
+  /** Width of the right-child index field, and the most nodes a tree may have so that every index
+    * fits it. */
+  final val IndexBits = 32 - RightShift
+  final val MaxNodes: Long = 1L << IndexBits
+
+  def axis(w: Int): Int = w & AxisMask
+  def right(w: Int): Int = w >>> RightShift
+
+  /** The word of node `i` of `tree`. */
+  def of(tree: PhotonTree, i: Int): Int =
+    tree.axis(i) |
+      (if (tree.hasLeft(i)) HasLeft else 0) | (if (tree.hasRight(i)) HasRight else 0) |
+      (if (tree.leftIsLeaf(i)) LeftIsLeaf else 0) | (if (tree.rightIsLeaf(i)) RightIsLeaf else 0) |
+      (if (tree.hasRight(i)) tree.right(i) << RightShift else 0)
+
+  /** Words of all nodes; a [[MapmError]] when the tree has more nodes than the index field holds. */
+  def all(tree: PhotonTree): Array[Int] = {
+    MapmError.check(tree.size <= MaxNodes,
+      s"photon tree has ${tree.size} nodes; the node record's $IndexBits-bit right-child index holds at most $MaxNodes")
+    Array.tabulate(tree.size)(of(tree, _))
+  }
+}
+
+/** The two tree-search comparisons of dissertation 3.1.6 / 3.4.1, exact on their inputs:
+  * TC_L = (p - h) < s and TC_R = (p + h) > s, strict, as real numbers.
+  *
+  * p, h and s are values of a float format, held exactly as doubles. The double sum d = p -/+ h is
+  * rounded, but rounding is monotone and s is a double, so d < s or d > s already decides the
+  * exact comparison; only d == s is ambiguous, and there the exact rounding error of the sum
+  * (Knuth's TwoSum, exact in binary64 barring overflow) gives the answer by its sign. When the sum
+  * overflows to an infinity the exact sum lies beyond every finite s, so the infinity still compares
+  * correctly. The TSA hardware compares exactly, so the model does too.
+  */
+object TreeCompare {
+  /** Exact (p - h) < s. */
+  @inline def tcL(p: Double, h: Double, s: Double): Boolean = {
+    val d = p - h
+    if (d != s) d < s
+    else { val bv = d - p; val err = (p - (d - bv)) + (-h - bv); err < 0 }
+  }
+
+  /** Exact (p + h) > s. */
+  @inline def tcR(p: Double, h: Double, s: Double): Boolean = {
+    val d = p + h
+    if (d != s) d > s
+    else { val bv = d - p; val err = (p - (d - bv)) + (h - bv); err > 0 }
+  }
+}
+
+/** The search structure of one photon tree: per-node [[NodeWord]]s and split values (the exact
+  * doubles of their format values). Shared, read-only, by any number of [[TreeSearcher]]s. */
+final class SearchTree(val word: Array[Int], val split: Array[Double]) {
+  require(word.length == split.length)
+  def size: Int = word.length
+}
+
+/** Runs tree searches for one query at a time, exactly as the pseudo code of dissertation 3.1.6 /
+  * 3.4.1 (one instance per thread; it owns its scratch arrays, so a search allocates nothing).
+  *
+  * A query is launched at the root (node 0). Each visited node is one tree-search (TS) operation:
+  * with p the query coordinate on the node's split axis,
+  *  - if TC_L and the node has a left child: a non-leaf left child is queued for a TS, a leaf left
+  *    child yields a shader operation (SO) for its photon;
+  *  - the same for TC_R and the right child;
+  *  - if TC_L and TC_R: an SO for the node's own photon.
+  * Leaves therefore only ever arrive through SOs, never through a TS, with one exception: a
+  * one-node tree, whose root is a leaf. The root is always searched as a node (it has an axis and a
+  * split value like every node, and no children), so such a query yields an SO for the root photon
+  * exactly when TC_L and TC_R hold, and one TS. An empty tree yields no operation at all.
+  *
+  * Pending searches are served first in, first out (the order of the dissertation's examples and of
+  * the hardware's register queue). After [[search]], `visited(0 until tsCount)` holds the visited
+  * nodes in order, and `so(0 until soCount)` the nodes whose photons got an SO, in issue order
+  * (per node: left child, right child, current node).
+  *
+  * Every photon strictly closer than h to the query (on the exact values) gets an SO: along the
+  * path to it each node's split value s lies between the query's coordinate interval and the
+  * photon's coordinate, which makes the needed comparison true.
+  */
+final class TreeSearcher(tree: SearchTree) {
+  private val word = tree.word
+  private val split = tree.split
+  /** Visited nodes in order; doubles as the FIFO queue of pending searches (every node is queued at
+    * most once per query, so the array never overflows). */
+  val visited: Array[Int] = new Array[Int](tree.size)
+  /** Nodes that got an SO, in issue order (at most one SO per node per query). */
+  val so: Array[Int] = new Array[Int](tree.size)
+  var tsCount: Int = 0
+  var soCount: Int = 0
+
+  /** Searches the tree for the query at (qx, qy, qz) with radius h (all exact format values). */
+  def search(qx: Double, qy: Double, qz: Double, h: Double): Unit = {
+    var nSo = 0
+    var tail = 0
+    if (word.length > 0) {
+      visited(0) = 0
+      tail = 1
+      var head = 0
+      while (head < tail) {
+        val i = visited(head); head += 1
+        val w = word(i)
+        val a = w & NodeWord.AxisMask
+        val p = if (a == 0) qx else if (a == 1) qy else qz
+        val s = split(i)
+        val tcl = TreeCompare.tcL(p, h, s)
+        val tcr = TreeCompare.tcR(p, h, s)
+        if (tcl && (w & NodeWord.HasLeft) != 0) {
+          if ((w & NodeWord.LeftIsLeaf) != 0) { so(nSo) = i + 1; nSo += 1 }
+          else { visited(tail) = i + 1; tail += 1 }
+        }
+        if (tcr && (w & NodeWord.HasRight) != 0) {
+          val r = w >>> NodeWord.RightShift
+          if ((w & NodeWord.RightIsLeaf) != 0) { so(nSo) = r; nSo += 1 }
+          else { visited(tail) = r; tail += 1 }
+        }
+        if (tcl && tcr) { so(nSo) = i; nSo += 1 }
+      }
+    }
+    tsCount = tail
+    soCount = nSo
+  }
+}

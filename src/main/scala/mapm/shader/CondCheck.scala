@@ -1,0 +1,111 @@
+package mapm.shader
+
+import chisel3._
+import chisel3.util._
+import mapm.fpu.{FAdd, FCmpLt, FMul}
+import mapm.model.FloatFormat
+
+/** Inputs of [[CondCheck]]: query point q, photon position p, kernel radius h (bit patterns of
+  * the format) and an opaque tag that leaves with the result. */
+class CondIn(fmt: FloatFormat, tagWidth: Int) extends Bundle {
+  val qx = UInt(fmt.width.W)
+  val qy = UInt(fmt.width.W)
+  val qz = UInt(fmt.width.W)
+  val px = UInt(fmt.width.W)
+  val py = UInt(fmt.width.W)
+  val pz = UInt(fmt.width.W)
+  val h = UInt(fmt.width.W)
+  val tag = UInt(tagWidth.W)
+}
+
+/** Result of [[CondCheck]]: whether the photon is inside the radius, and the input's tag. */
+class CondOut(tagWidth: Int) extends Bundle {
+  val cond = Bool()
+  val tag = UInt(tagWidth.W)
+}
+
+/** The shader operation's distance condition (3.6.1) from conventional pipelined floating-point
+  * units: cond = |q - p|^2 < h^2, each operation rounded to nearest even in `fmt`, in exactly the
+  * order of [[mapm.model.CondModel]], with which it is bit-exact:
+  * {{{
+  *   dx = qx - px;  dy = qy - py;  dz = qz - pz        3 FAdd (subtract)
+  *   dx*dx, dy*dy, dz*dz, hh = h*h                     4 FMul
+  *   xy = dx*dx + dy*dy                                FAdd
+  *   d2 = xy + dz*dz                                   FAdd
+  *   cond = d2 < hh                                    FCmpLt
+  * }}}
+  * h waits one adder latency, dz*dz one and hh two, in valid-gated delay registers; the tag
+  * travels in such registers beside the units.
+  *
+  * Latency: [[latency]] = 3 FAdd + FMul + FCmpLt latencies (16 cycles with the default cuts, for
+  * every format). Throughput: one check per cycle; results leave in input order with their tags.
+  */
+class CondCheck(val fmt: FloatFormat, val tagWidth: Int,
+                addCuts: Seq[Boolean] = FAdd.defaultCuts,
+                mulCuts: Seq[Boolean] = FMul.defaultCuts,
+                cmpCuts: Seq[Boolean] = FCmpLt.defaultCuts) extends Module {
+  require(tagWidth >= 1, s"CondCheck tag width must be at least 1, got $tagWidth")
+  override def desiredName: String = s"CondCheck_${fmt.name}_t$tagWidth"
+
+  val latency: Int = CondCheck.latency(addCuts, mulCuts, cmpCuts)
+
+  val io = IO(new Bundle {
+    val in = Flipped(Valid(new CondIn(fmt, tagWidth)))
+    val out = Valid(new CondOut(tagWidth))
+  })
+
+  /** a + b (or a - b) in an [[FAdd]]; the operands' valid bits always agree and are ANDed. */
+  private def add(a: Valid[UInt], b: Valid[UInt], sub: Boolean): Valid[UInt] = {
+    val u = Module(new FAdd(fmt, addCuts))
+    u.io.in.valid := a.valid && b.valid
+    u.io.in.bits.a := a.bits
+    u.io.in.bits.b := b.bits
+    u.io.in.bits.sub := sub.B
+    u.io.out
+  }
+  private def square(x: Valid[UInt]): Valid[UInt] = {
+    val u = Module(new FMul(fmt, mulCuts))
+    u.io.in.valid := x.valid
+    u.io.in.bits.a := x.bits
+    u.io.in.bits.b := x.bits
+    u.io.out
+  }
+  /** `x` delayed by `cycles` registers that load only while the valid bit beside them is set. */
+  private def delay[T <: Data](x: Valid[T], cycles: Int): Valid[T] = (0 until cycles).foldLeft(x) { (d, _) =>
+    val r = Wire(Valid(chiselTypeOf(d.bits)))
+    r.valid := RegNext(d.valid, false.B)
+    r.bits := RegEnable(d.bits, d.valid)
+    r
+  }
+  private def input[T <: Data](x: T): Valid[T] = {
+    val v = Wire(Valid(chiselTypeOf(x)))
+    v.valid := io.in.valid
+    v.bits := x
+    v
+  }
+
+  val in = io.in.bits
+  val addLatency: Int = addCuts.count(identity)
+  val dx = add(input(in.qx), input(in.px), sub = true)
+  val dy = add(input(in.qy), input(in.py), sub = true)
+  val dz = add(input(in.qz), input(in.pz), sub = true)
+  val xy = add(square(dx), square(dy), sub = false)
+  val d2 = add(xy, delay(square(dz), addLatency), sub = false)
+  val hh = delay(square(delay(input(in.h), addLatency)), 2 * addLatency)
+
+  val cmp = Module(new FCmpLt(fmt, cmpCuts))
+  cmp.io.in.valid := d2.valid && hh.valid
+  cmp.io.in.bits.a := d2.bits
+  cmp.io.in.bits.b := hh.bits
+
+  io.out.valid := cmp.io.out.valid
+  io.out.bits.cond := cmp.io.out.bits
+  io.out.bits.tag := delay(input(in.tag), latency).bits
+}
+
+object CondCheck {
+  /** Cycles from input to output for the given unit cuts (16 with the defaults). */
+  def latency(addCuts: Seq[Boolean] = FAdd.defaultCuts, mulCuts: Seq[Boolean] = FMul.defaultCuts,
+              cmpCuts: Seq[Boolean] = FCmpLt.defaultCuts): Int =
+    3 * addCuts.count(identity) + mulCuts.count(identity) + cmpCuts.count(identity)
+}

@@ -1,0 +1,110 @@
+package mapm.tsearch
+
+import chisel3._
+import chisel3.util._
+import mapm.arith.P2S
+import mapm.model.{FloatFormat, TsaModel}
+
+/** One tree-search comparison: query coordinate p, kernel radius h, split position s (bit
+  * patterns of `fmt`) and an opaque tag that comes back with the outcome. */
+class TsaRequest(fmt: FloatFormat, tagWidth: Int) extends Bundle {
+  val p = UInt(fmt.width.W)
+  val h = UInt(fmt.width.W)
+  val s = UInt(fmt.width.W)
+  val tag = UInt(tagWidth.W)
+}
+
+/** The outcome: traverse the left child (p-h < s), the right child (p+h > s), and whether an
+  * input was invalid (negative non-zero, infinite or NaN; both TC bits are then 1). */
+class TsaResponse(tagWidth: Int) extends Bundle {
+  val tcl = Bool()
+  val tcr = Bool()
+  val error = Bool()
+  val tag = UInt(tagWidth.W)
+}
+
+/** Tree Search Accelerator (3.4): TC_L = (p - h < s) and TC_R = (p + h > s), exactly, for
+  * non-negative finite p, h, s in any [[FloatFormat]] (exponent field 0 is the value 0, -0 is 0).
+  *
+  * Structure (Figure 3.12): [[ShiftAmountLogic]] and three [[ShiftRight]] align the three
+  * significands to the largest exponent into words of W = manWidth + 3 bits (hidden bit,
+  * mantissa, one guard bit, one sticky bit: the two extra bits make the decisions exact, see
+  * [[mapm.model.TsaModel]]); a register stage; three [[P2S]] turn the words into skewed bit
+  * streams; two W-slice [[PipelinedComparator]]s decide p - h < s (TC_L) and s - h < p (TC_R,
+  * p and s swapped). The valid bit, the tag and the error flag travel beside the slices.
+  *
+  * Latency: W + 1 = manWidth + 4 cycles (27 for fp32): one alignment stage and one cycle per
+  * slice; the dissertation's manWidth + 2 has no guard and sticky slices. Throughput: one
+  * operation per cycle, no stalls. `bits` of the output are meaningful only while it is valid.
+  */
+class TSA(fmt: FloatFormat, tagWidth: Int) extends Module {
+  require(tagWidth >= 1, s"tag width must be at least 1, got $tagWidth")
+  override def desiredName = s"TSA_${fmt.name}_t$tagWidth"
+
+  /** The alignment the hardware builds (guard bits, sticky bit), shared with the model. */
+  private val al = TsaModel.Alignment.exact
+  /** Aligned word width, the number of comparator slices. */
+  val wordWidth: Int = al.wordWidth(fmt)
+  /** Cycles from an accepted request to its response. */
+  val latency: Int = TsaModel.latency(fmt)
+
+  val io = IO(new Bundle {
+    val in = Flipped(Valid(new TsaRequest(fmt, tagWidth)))
+    val out = Valid(new TsaResponse(tagWidth))
+  })
+
+  // Stage 0 (combinational): fields, input check, shift amounts, alignment.
+  private val operands = Seq(io.in.bits.p, io.in.bits.h, io.in.bits.s)
+  private def expField(x: UInt) = x(fmt.width - 2, fmt.manWidth)
+  private def invalid(x: UInt) = {
+    val e = expField(x)
+    e.andR || (x(fmt.width - 1) && e.orR) // infinite or NaN; negative and not zero
+  }
+  private def significand(x: UInt) = {
+    val e = expField(x)
+    Mux(e.orR, Cat(1.U(1.W), x(fmt.manWidth - 1, 0)), 0.U((fmt.manWidth + 1).W))
+  }
+
+  val sal = Module(new ShiftAmountLogic(fmt.expWidth))
+  sal.io.pe := expField(io.in.bits.p)
+  sal.io.he := expField(io.in.bits.h)
+  sal.io.se := expField(io.in.bits.s)
+  private val amounts = Seq(sal.io.sap, sal.io.sah, sal.io.sas)
+
+  val aligned = operands.zip(amounts).map { case (x, si) =>
+    val sr = Module(new ShiftRight(fmt.manWidth + 1 + al.guardBits, fmt.expWidth + 1))
+    sr.io.din := (if (al.guardBits == 0) significand(x) else Cat(significand(x), 0.U(al.guardBits.W)))
+    sr.io.si := si
+    if (al.sticky) Cat(sr.io.dout, sr.io.sticky) else sr.io.dout
+  }
+
+  class Meta extends Bundle {
+    val tag = UInt(tagWidth.W)
+    val error = Bool()
+  }
+  val meta = Wire(new Meta)
+  meta.tag := io.in.bits.tag
+  meta.error := operands.map(invalid).reduce(_ || _)
+
+  // Stage 1: aligned words registered; then bit-serial through P2S into the slices.
+  val alignedReg = aligned.map(RegNext(_))
+  val stage1 = Pipe(io.in.valid, meta, 1)
+  val Seq(ps, hs, ss) = alignedReg.map { w =>
+    val p2s = Module(new P2S(wordWidth))
+    p2s.io.in := w
+    p2s.io.out
+  }
+
+  val cmpL = Module(new PipelinedComparator(wordWidth)) // p - h < s
+  cmpL.io.a := ps; cmpL.io.b := hs; cmpL.io.c := ss
+  val cmpR = Module(new PipelinedComparator(wordWidth)) // s - h < p, i.e. p + h > s
+  cmpR.io.a := ss; cmpR.io.b := hs; cmpR.io.c := ps
+
+  // Valid, tag and error beside the slices, leaving with the comparators' last stage.
+  val leaving = Pipe(stage1, wordWidth)
+  io.out.valid := leaving.valid
+  io.out.bits.tag := leaving.bits.tag
+  io.out.bits.error := leaving.bits.error
+  io.out.bits.tcl := cmpL.io.less || leaving.bits.error
+  io.out.bits.tcr := cmpR.io.less || leaving.bits.error
+}

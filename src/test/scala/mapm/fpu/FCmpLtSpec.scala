@@ -1,0 +1,40 @@
+package mapm.fpu
+
+import mapm.fpu.FpuTesting._
+import mapm.model.{FloatFormat, SoftFloat}
+import mapm.sim.VerilatorPipe
+import org.scalatest.funsuite.AnyFunSuite
+
+/** FCmpLt against SoftFloat.lt (itself checked against exact rationals), streaming with random
+  * idle cycles. */
+class FCmpLtSpec extends AnyFunSuite {
+
+  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report = {
+    val pipe = VerilatorPipe.build(new FCmpLt(f, cuts))
+    val res = pipe.out("io_out_bits")
+    StreamCheck.run(pipe, cuts.count(identity), count, Seq("io_in_bits_a", "io_in_bits_b"),
+      i => { val (a, b) = op(i); Array(port(a), port(b)) },
+      (i, out) => {
+        val (a, b) = op(i)
+        val want = SoftFloat.lt(f, a, b)
+        if ((out(res) == 1) == want) null else s"${f.hex(a)} < ${f.hex(b)} gave ${out(res)}, model $want"
+      }, gap = 0.2, seed)
+  }
+
+  test("exhaustive e4m3 and e2m5: every operand pair") {
+    for (f <- Seq(FloatFormat(4, 3), FloatFormat(2, 5)))
+      stream(f, FCmpLt.defaultCuts, 1 << (2 * f.width), exhaustivePair(f, _), seed = f.width)
+  }
+
+  test("fp32: 200,000 seeded pairs (equal, negated, zeros, NaN among them); fp64: 30,000") {
+    for ((f, count) <- Seq(FloatFormat.fp32 -> 200000, FloatFormat.fp64 -> 30000)) {
+      val (a, b) = randomPairs(f, count, seed = 60 + f.width)
+      stream(f, FCmpLt.defaultCuts, count, i => (a(i), b(i)), seed = f.width)
+    }
+  }
+
+  test("without its register (latency 0), exhaustive at e3m2") {
+    val f = FloatFormat(3, 2)
+    stream(f, Seq(false), 1 << (2 * f.width), exhaustivePair(f, _), seed = 7)
+  }
+}

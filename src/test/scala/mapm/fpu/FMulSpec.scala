@@ -1,0 +1,45 @@
+package mapm.fpu
+
+import mapm.fpu.FpuTesting._
+import mapm.model.{FloatFormat, SoftFloat}
+import mapm.sim.VerilatorPipe
+import org.scalatest.funsuite.AnyFunSuite
+
+/** FMul against SoftFloat (itself checked against exact rationals), bit for bit, streaming with
+  * random idle cycles. */
+class FMulSpec extends AnyFunSuite {
+
+  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report = {
+    val pipe = VerilatorPipe.build(new FMul(f, cuts))
+    val res = pipe.out("io_out_bits")
+    StreamCheck.run(pipe, cuts.count(identity), count, Seq("io_in_bits_a", "io_in_bits_b"),
+      i => { val (a, b) = op(i); Array(port(a), port(b)) },
+      (i, out) => {
+        val (a, b) = op(i)
+        val want = SoftFloat.mul(f, a, b)
+        val got = out(res).toLong
+        if (got == want) null else s"${f.hex(a)} * ${f.hex(b)} = ${f.hex(got)}, model ${f.hex(want)}"
+      }, gap = 0.2, seed)
+  }
+
+  test("exhaustive e2m1, e3m2, e4m3: every operand pair") {
+    for (f <- Seq(FloatFormat(2, 1), FloatFormat(3, 2), FloatFormat(4, 3))) {
+      val r = stream(f, FMul.defaultCuts, 1 << (2 * f.width), exhaustivePair(f, _), seed = f.width)
+      info(s"$f: ${r.operations} operations in ${r.cycles} cycles (${r.idleCycles} idle)")
+    }
+  }
+
+  test("fp32: 200,000 seeded hard-case pairs; fp64, e2m52, e11m1: 30,000 each") {
+    for ((f, count) <- Seq(FloatFormat.fp32 -> 200000, FloatFormat.fp64 -> 30000, FloatFormat(2, 52) -> 30000, FloatFormat(11, 1) -> 30000)) {
+      val (a, b) = randomPairs(f, count, seed = 50 + f.width)
+      val r = stream(f, FMul.defaultCuts, count, i => (a(i), b(i)), seed = f.width)
+      info(s"$f: ${r.operations} operations in ${r.cycles} cycles")
+    }
+  }
+
+  test("other cut patterns (latency 1 and 0) compute the same, exhaustive at e3m2") {
+    val f = FloatFormat(3, 2)
+    for (cuts <- Seq(Seq(false, true, false), Seq.fill(FMul.stages)(false)))
+      stream(f, cuts, 1 << (2 * f.width), exhaustivePair(f, _), seed = 6)
+  }
+}
