@@ -24,12 +24,11 @@ object EmitSoaCommand extends Command {
     MapmError.check(g >= 0 && g <= 8, s"emit-soa: --g must be 0..8, got $g")
     MapmError.check(format.manWidth >= 4, s"emit-soa: format $format needs at least 4 fraction bits")
     MapmError.check(tagWidth >= 1 && tagWidth <= 64, s"emit-soa: --tag-width must be 1..64, got $tagWidth")
-    var top = ""
-    val sv = Emit.systemVerilog { val m = new ShaderChain(format, g, tagWidth); top = m.desiredName; m }
-    val dir = Paths.get(out)
-    java.nio.file.Files.createDirectories(dir)
-    val file = dir.resolve(s"$top.sv")
-    java.nio.file.Files.write(file, sv.getBytes("UTF-8"))
+    val top = ShaderChain.name(format, g)
+    val file =
+      try Emit.toFile(new ShaderChain(format, g, tagWidth), Paths.get(out), s"$top.sv")
+      catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write $out/$top.sv: ${e.getMessage}") }
+    val sv = new String(java.nio.file.Files.readAllBytes(file), "UTF-8")
     println(s"wrote $file ($top: format $format, g = $g, N = ${format.manWidth + 1 + g} digits per unit)")
     for ((unit, cycles) <- ShaderChain.unitLatencies(format, g)) println(f"  latency $unit%-36s $cycles%3d cycles")
     println(s"  flip-flops: ${SvStats.registerBits(sv, Some(top))}")

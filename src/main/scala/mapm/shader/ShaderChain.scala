@@ -44,7 +44,7 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
   private val n = format.manWidth + 1
   private val ew = format.expWidth
   require(g >= 0 && g <= 8 && n >= 5 && tagWidth >= 1, s"ShaderChain: format $format, g = $g, tag width $tagWidth")
-  override def desiredName = s"ShaderChain_${format.name}_g$g"
+  override def desiredName = ShaderChain.name(format, g)
 
   /** Digits per online unit. */
   val digits: Int = n + g
@@ -130,6 +130,9 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
 object ShaderChain {
   /** Colour channels per operation (r, g, b). */
   val Channels = 3
+
+  /** The module name, e.g. `ShaderChain_e8m23_g3`. */
+  def name(format: FloatFormat, g: Int): String = s"ShaderChain_${format.name}_g$g"
 
   /** Cycles from input to output: the last MUL3 digit in cycle N+17, packing in N+18. */
   def latency(format: FloatFormat, g: Int): Int = format.manWidth + 1 + g + 18

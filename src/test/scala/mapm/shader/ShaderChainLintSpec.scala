@@ -14,7 +14,7 @@ class ShaderChainLintSpec extends AnyFunSuite {
   for ((f, g) <- configs)
     test(s"ShaderChain $f g = $g passes verilator --lint-only -Wall") {
       val dir = Files.createTempDirectory("soa-lint")
-      val top = s"ShaderChain_${f.name}_g$g"
+      val top = ShaderChain.name(f, g)
       val file = Emit.toFile(new ShaderChain(f, g), dir, s"$top.sv")
       val log = new StringBuilder
       val rc = Process(Seq("verilator", "--lint-only", "-Wall", "-Wno-DECLFILENAME", "--top-module", top, file.toString))
