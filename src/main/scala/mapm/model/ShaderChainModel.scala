@@ -19,7 +19,7 @@ final class ShaderChainModel(val format: FloatFormat, val g: Int) {
   import ShaderChainModel._
 
   MapmError.check(g >= 0 && g <= 8, s"shader chain: guard digits g = $g outside 0..8")
-  MapmError.check(format.manWidth >= 3, s"shader chain: format $format needs at least 3 fraction bits (n ≥ 4)")
+  MapmError.check(format.manWidth >= 4, s"shader chain: format $format needs at least 4 fraction bits (n ≥ 5)")
 
   /** Significand width including the hidden bit. */
   val n: Int = format.manWidth + 1
