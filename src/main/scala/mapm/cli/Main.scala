@@ -27,7 +27,10 @@ object Main {
     KdtreeCommand,
     BenchSearchCommand,
     EmitTsaCommand,
-    TsaVectorsCommand
+    TsaVectorsCommand,
+    EmitSoaCommand,
+    SoaVectorsCommand,
+    SoaBenchCommand
   )
 
   def usage: String = {

@@ -1,0 +1,39 @@
+package mapm.cli
+
+import java.nio.file.Paths
+import mainargs.{ParserForMethods, arg, main}
+import mapm.MapmError
+import mapm.model.FloatFormat
+import mapm.shader.ShaderChain
+import mapm.sim.Emit
+import Args.FloatFormatReader
+
+/** `mapm emit-soa`: writes the SystemVerilog of the shader-operation datapath (today the colour
+  * chain [[ShaderChain]]) through CIRCT, and prints its latency and register count. */
+object EmitSoaCommand extends Command {
+  val name = "emit-soa"
+  val summary = "emit the SOA shader chain as SystemVerilog"
+
+  @main
+  def emitSoa(
+      @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(name = "g", doc = "guard digits per online unit (0 = the dissertation's N = n)") g: Int = 3,
+      @arg(doc = "width of the opaque tag that travels with each operation") tagWidth: Int = 16,
+      @arg(doc = "output directory") out: String = "out/soa"
+  ): Int = {
+    MapmError.check(g >= 0 && g <= 8, s"emit-soa: --g must be 0..8, got $g")
+    MapmError.check(format.manWidth >= 4, s"emit-soa: format $format needs at least 4 fraction bits")
+    MapmError.check(tagWidth >= 1 && tagWidth <= 64, s"emit-soa: --tag-width must be 1..64, got $tagWidth")
+    val top = ShaderChain.name(format, g)
+    val file =
+      try Emit.toFile(new ShaderChain(format, g, tagWidth), Paths.get(out), s"$top.sv")
+      catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write $out/$top.sv: ${e.getMessage}") }
+    val sv = new String(java.nio.file.Files.readAllBytes(file), "UTF-8")
+    println(s"wrote $file ($top: format $format, g = $g, N = ${format.manWidth + 1 + g} digits per unit)")
+    for ((unit, cycles) <- ShaderChain.unitLatencies(format, g)) println(f"  latency $unit%-36s $cycles%3d cycles")
+    println(s"  flip-flops: ${SvStats.registerBits(sv, Some(top))}")
+    0
+  }
+
+  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+}

@@ -1,0 +1,69 @@
+package mapm.cli
+
+import java.nio.file.Paths
+import mainargs.{Flag, ParserForMethods, arg, main}
+import mapm.MapmError
+import mapm.model.{FloatFormat, ShaderChainModel, ShaderVectors}
+import mapm.shader.ShaderChainSim
+import Args.FloatFormatReader
+
+/** `mapm soa-vectors`: runs a shader-chain vector file (../shared/vectors format) through the
+  * bit-accurate model, comparing every column (result, flags, s, m, E and the digit strings),
+  * and with `--hw` through the emitted SystemVerilog in Verilator (result and flags of each
+  * row, driven on all three channels). Prints the mismatch count and the first mismatch of
+  * each; exits 1 if there is any. */
+object SoaVectorsCommand extends Command {
+  val name = "soa-vectors"
+  val summary = "check a shader-chain vector file against the model (and the hardware with --hw)"
+
+  @main
+  def soaVectors(
+      @arg(doc = "vector file (CSV: id,kernel,brdf,h,power,contrib,expected,flags,s,m,E[,p1,q,p2,p3])") in: String,
+      @arg(doc = "float format of the file: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(name = "g", doc = "guard digits the file was made with") g: Int = 3,
+      @arg(doc = "also run the emitted Verilog in Verilator") hw: Flag
+  ): Int = {
+    MapmError.check(g >= 0 && g <= 8, s"soa-vectors: --g must be 0..8, got $g")
+    MapmError.check(format.manWidth >= 4, s"soa-vectors: format $format needs at least 4 fraction bits")
+    val rows = ShaderVectors.read(Paths.get(in), format)
+    val model = new ShaderChainModel(format, g)
+
+    val t0 = System.nanoTime()
+    val modelBad = rows.iterator.flatMap(r => ShaderVectors.mismatch(r, model.trace(r.kernel, r.brdf, r.h, r.power, r.contrib), format))
+    var modelCount = 0; var modelFirst: Option[String] = None
+    modelBad.foreach { m => modelCount += 1; if (modelFirst.isEmpty) modelFirst = Some(m) }
+    report("model", rows.length, modelCount, modelFirst, (System.nanoTime() - t0) / 1e9)
+
+    val hwCount = if (!hw.value) 0 else {
+      val t1 = System.nanoTime()
+      val sim = new ShaderChainSim(format, g)
+      val t2 = System.nanoTime()
+      var k = 0; var count = 0; var first: Option[String] = None
+      val ops = rows.iterator.zipWithIndex.map { case (r, i) =>
+        Some(ShaderChainSim.Op(Array(r.kernel, r.brdf, r.h, r.power, r.power, r.power, r.contrib, r.contrib, r.contrib), i & 0xffff))
+      }
+      sim.run(ops) { o =>
+        val r = rows(k)
+        val bad = (0 until 3).filter(c => o.colour(c) != r.expected || o.flags(c) != r.flags)
+        if (bad.nonEmpty || o.tag != (k & 0xffff)) {
+          count += 1
+          if (first.isEmpty) first = Some(s"row id ${r.id} (line ${r.line}): expected ${format.hex(r.expected)} flags ${r.flags}, " +
+            s"hardware ${(0 until 3).map(c => s"${format.hex(o.colour(c))}/${o.flags(c)}").mkString(" ")} (tag ${o.tag})")
+        }
+        k += 1
+      }
+      if (k != rows.length) { count += rows.length - k; if (first.isEmpty) first = Some(s"${rows.length - k} rows produced no result") }
+      println(f"hardware: Verilator build ${(t2 - t1) / 1e9}%.1f s")
+      report("hardware", rows.length, count, first, (System.nanoTime() - t2) / 1e9)
+      count
+    }
+    if (modelCount + hwCount == 0) 0 else 1
+  }
+
+  private def report(what: String, rows: Int, bad: Int, first: Option[String], seconds: Double): Unit = {
+    println(f"$what: $rows rows, $bad mismatches ($seconds%.1f s)")
+    first.foreach(m => println(s"  first: $m"))
+  }
+
+  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+}

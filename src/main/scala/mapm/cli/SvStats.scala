@@ -1,0 +1,24 @@
+package mapm.cli
+
+/** Figures read from emitted SystemVerilog text. */
+object SvStats {
+  private val moduleRe = """(?s)\bmodule\s+(\w+)\s*\((.*?)\bendmodule\b""".r
+  private val regRe = """(?m)^\s*reg\s+(?:\[(\d+):(\d+)\]\s*)?(\w+)\s*;""".r
+  private val instRe = """(?m)^\s+(\w+)\s+\w+\s*\(""".r
+
+  /** Flip-flop bits of the module `top` (default: the last module in the text), counting every
+    * `reg` declaration of each module once per instance in the hierarchy. */
+  def registerBits(sv: String, top: Option[String] = None): Long = {
+    val bodies = moduleRe.findAllMatchIn(sv).map(m => m.group(1) -> m.group(2)).toMap
+    val order = moduleRe.findAllMatchIn(sv).map(_.group(1)).toSeq
+    val memo = scala.collection.mutable.Map.empty[String, Long]
+    def count(name: String): Long = memo.getOrElseUpdate(name, {
+      val body = bodies(name)
+      val own = regRe.findAllMatchIn(body).map { m =>
+        if (m.group(1) == null) 1L else (m.group(1).toLong - m.group(2).toLong).abs + 1
+      }.sum
+      own + instRe.findAllMatchIn(body).map(_.group(1)).filter(bodies.contains).map(count).sum
+    })
+    count(top.getOrElse(order.last))
+  }
+}

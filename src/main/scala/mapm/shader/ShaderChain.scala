@@ -1,0 +1,146 @@
+package mapm.shader
+
+import chisel3._
+import chisel3.util._
+import mapm.arith.P2S
+import mapm.model.FloatFormat
+
+/** One shader operation: the shared kernel, BRDF and h, and per colour channel (r, g, b) the
+  * photon power and the contribution, as bit patterns of the format, with an opaque tag. */
+class ShaderRequest(format: FloatFormat, tagWidth: Int) extends Bundle {
+  val kernel = UInt(format.width.W)
+  val brdf = UInt(format.width.W)
+  val h = UInt(format.width.W)
+  val power = Vec(ShaderChain.Channels, UInt(format.width.W))
+  val contrib = Vec(ShaderChain.Channels, UInt(format.width.W))
+  val tag = UInt(tagWidth.W)
+}
+
+/** The colour of one shader operation: bits and flags (OVF = 1, UNF = 2, INV = 4) per channel,
+  * and the operation's tag. */
+class ShaderResult(format: FloatFormat, tagWidth: Int) extends Bundle {
+  val colour = Vec(ShaderChain.Channels, UInt(format.width.W))
+  val flags = Vec(ShaderChain.Channels, UInt(3.W))
+  val tag = UInt(tagWidth.W)
+}
+
+/** The colour part of the shader-operation accelerator (dissertation 3.6, shader-chain.md):
+  * colour_c = ((kernel · BRDF) / h) · power_c · contribution_c for c = r, g, b, digit-serial in
+  * online arithmetic with N = n + g digits per unit. The three channels share MUL1 (kernel ·
+  * BRDF), the divider (/ h) and QN, and leave in the same cycle.
+  *
+  * Datapath (timing of shader-chain.md §6, cycle 1 = the cycle the operation is on `in`):
+  * P2S skews the significands (kernel/BRDF bit s in cycle s, h in s+3, power s+10, contribution
+  * s+14); MUL1 (cycles 1 … N+3), DIV (4 … N+7), QN (10 … N+9), per channel MUL2 (11 … N+13) and
+  * MUL3 (15 … N+17), then normalization and packing in cycle N+18. The exponent adder tree and
+  * the special-case classes are formed in cycle 1 and travel beside the significands.
+  *
+  * Latency: [[latency]] = N + 18 cycles from `in` to `out` (42 for fp32 with g = 0, 45 with
+  * g = 3). Throughput: one operation per cycle, fully pipelined, never stalls; `out.valid`
+  * follows `in.valid` and tags leave in order.
+  */
+class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends Module {
+  import ShaderChain.Channels
+  private val n = format.manWidth + 1
+  private val ew = format.expWidth
+  require(g >= 0 && g <= 8 && n >= 5 && tagWidth >= 1, s"ShaderChain: format $format, g = $g, tag width $tagWidth")
+  override def desiredName = ShaderChain.name(format, g)
+
+  /** Digits per online unit. */
+  val digits: Int = n + g
+  /** Cycles from an operation on `in` to its result on `out`. */
+  val latency: Int = ShaderChain.latency(format, g)
+
+  val io = IO(new Bundle {
+    val in = Flipped(Valid(new ShaderRequest(format, tagWidth)))
+    val out = Valid(new ShaderResult(format, tagWidth))
+  })
+
+  private val req = io.in.bits
+  private def expOf(x: UInt): UInt = x(format.width - 2, format.manWidth)
+  private def fracOf(x: UInt): UInt = x(format.manWidth - 1, 0)
+  private def signOf(x: UInt): Bool = x(format.width - 1)
+
+  /** The n significand bits 1.f of `x`, skewed by P2S after `delay` cycles: bit s (MSB = 1)
+    * comes out in cycle s + delay. */
+  private def serial(x: UInt, delay: Int): Vec[Bool] = {
+    val p2s = Module(new P2S(n))
+    p2s.io.in := ShiftRegister(Cat(1.U(1.W), fracOf(x)), delay)
+    VecInit((1 to n).map(s => p2s.io.out(n - s)))
+  }
+
+  // Significand datapath, shared part: MUL1 = kernel × BRDF, DIV = (0, p1) / h, QN.
+  val mul1 = Module(new OnlineMul(n, digits, n))
+  mul1.io.x := VecInit(serial(req.kernel, 0).map(b => SignedDigit(b, false.B)))
+  mul1.io.y := serial(req.brdf, 0)
+
+  val div = Module(new OnlineDiv(n, digits, digits + 1))
+  div.io.x := VecInit(SignedDigit.zero +: mul1.io.p)
+  div.io.d := serial(req.h, 3)
+
+  val qn = Module(new QuasiNormalize(digits))
+  qn.io.q := div.io.q
+
+  // Exponents and special cases, formed in cycle 1.
+  val exps = Module(new ExponentPath(ew, Channels))
+  exps.io.kernel := expOf(req.kernel)
+  exps.io.brdf := expOf(req.brdf)
+  exps.io.h := expOf(req.h)
+  exps.io.power := VecInit(req.power.map(expOf))
+  exps.io.contrib := VecInit(req.contrib.map(expOf))
+
+  private def infNaN(x: UInt): Bool = expOf(x).andR
+  private def zeroExp(x: UInt): Bool = expOf(x) === 0.U
+  private def flushed(x: UInt): Bool = zeroExp(x) && fracOf(x).orR
+
+  private val toPack = digits + 17 // from cycle 1 to the packing cycle N+18
+  private val sAtPack = ShiftRegister(qn.io.s, digits + 7) // s appears in cycle 11
+
+  val result = Wire(new ShaderResult(format, tagWidth))
+  for (c <- 0 until Channels) {
+    val (power, contrib) = (req.power(c), req.contrib(c))
+    val mul2 = Module(new OnlineMul(n, digits, digits))
+    mul2.io.x := qn.io.out
+    mul2.io.y := serial(power, 10)
+    val mul3 = Module(new OnlineMul(n, digits, digits))
+    mul3.io.x := mul2.io.p
+    mul3.io.y := serial(contrib, 14)
+
+    val factors = Seq(req.kernel, req.brdf, power, contrib)
+    val special = Wire(new ShaderSpecial)
+    special.inv := (factors :+ req.h).map(infNaN).reduce(_ || _) || zeroExp(req.h)
+    special.zero := factors.map(zeroExp).reduce(_ || _)
+    special.flushed := factors.map(flushed).reduce(_ || _)
+
+    val pack = Module(new NormalizePack(format, digits))
+    pack.io.digits := mul3.io.p
+    pack.io.e0 := ShiftRegister(exps.io.e0(c), toPack)
+    pack.io.s := sAtPack
+    pack.io.sign := ShiftRegister((factors :+ req.h).map(signOf).reduce(_ ^ _), toPack)
+    pack.io.special := ShiftRegister(special, toPack)
+    result.colour(c) := pack.io.bits
+    result.flags(c) := pack.io.flags
+  }
+  result.tag := ShiftRegister(req.tag, latency)
+
+  io.out.valid := ShiftRegister(io.in.valid, latency, false.B, true.B)
+  io.out.bits := result
+}
+
+object ShaderChain {
+  /** Colour channels per operation (r, g, b). */
+  val Channels = 3
+
+  /** The module name, e.g. `ShaderChain_e8m23_g3`. */
+  def name(format: FloatFormat, g: Int): String = s"ShaderChain_${format.name}_g$g"
+
+  /** Cycles from input to output: the last MUL3 digit in cycle N+17, packing in N+18. */
+  def latency(format: FloatFormat, g: Int): Int = format.manWidth + 1 + g + 18
+
+  /** Per-unit latencies in cycles (stages), for the documentation and the emit report. */
+  def unitLatencies(format: FloatFormat, g: Int): Seq[(String, Int)] = {
+    val nd = format.manWidth + 1 + g
+    Seq("MUL1/MUL2/MUL3 (N+3 stages each)" -> (nd + 3), "DIV (N+4 stages)" -> (nd + 4),
+      "QN" -> 1, "normalize + pack" -> 1, "whole chain" -> latency(format, g))
+  }
+}

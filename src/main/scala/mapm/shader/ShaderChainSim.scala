@@ -1,0 +1,57 @@
+package mapm.shader
+
+import mapm.model.FloatFormat
+import mapm.sim.VerilatorPipe
+
+/** Runs the emitted SystemVerilog of a [[ShaderChain]] in Verilator (through
+  * [[mapm.sim.VerilatorPipe]], built once per design and cached), streaming one operation or
+  * bubble per cycle and collecting every valid result with the cycle it left in.
+  */
+final class ShaderChainSim(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) {
+  import ShaderChainSim._
+
+  val latency: Int = ShaderChain.latency(format, g)
+  private val pipe = VerilatorPipe.build(new ShaderChain(format, g, tagWidth))
+
+  private val inNames = Seq("io_in_bits_kernel", "io_in_bits_brdf", "io_in_bits_h") ++
+    (0 until 3).map(c => s"io_in_bits_power_$c") ++ (0 until 3).map(c => s"io_in_bits_contrib_$c")
+  private val inIdx = inNames.map(pipe.in)
+  private val inValid = pipe.in("io_in_valid")
+  private val inTag = pipe.in("io_in_bits_tag")
+  private val outValid = pipe.out("io_out_valid")
+  private val outTag = pipe.out("io_out_bits_tag")
+  private val outColour = (0 until 3).map(c => pipe.out(s"io_out_bits_colour_$c"))
+  private val outFlags = (0 until 3).map(c => pipe.out(s"io_out_bits_flags_$c"))
+  private val zero = BigInt(0)
+
+  /** Streams `cycles` (Some(op) = an operation on a valid cycle, None = a bubble), then enough
+    * bubbles to drain the pipeline, and calls `sink` with every valid result in order. */
+  def run(cycles: Iterator[Option[Op]])(sink: Out => Unit): Unit = {
+    val rows = (cycles ++ Iterator.fill(latency + 1)(None)).map { c =>
+      val row = Array.fill(pipe.inputs.length)(zero)
+      c.foreach { op =>
+        row(inValid) = BigInt(1)
+        row(inTag) = BigInt(op.tag)
+        for (i <- 0 until 9) row(inIdx(i)) = BigInt(op.inputs(i))
+      }
+      row
+    }
+    var cycle = -1L
+    pipe.run(rows) { o =>
+      cycle += 1
+      if (o(outValid) != zero)
+        sink(Out(o(outTag).toLong, outColour.map(o(_).toLong).toArray, outFlags.map(o(_).toInt).toArray, cycle))
+    }
+  }
+}
+
+object ShaderChainSim {
+  /** One operation: kernel, BRDF, h, power r/g/b, contribution r/g/b (bit patterns), a tag. */
+  final case class Op(inputs: Array[Long], tag: Long) {
+    require(inputs.length == 9, "a shader operation has 9 inputs")
+  }
+
+  /** One result: the tag, colour bits and flags per channel, and the cycle it was seen in
+    * (counting the first streamed cycle as 0). */
+  final case class Out(tag: Long, colour: Array[Long], flags: Array[Int], cycle: Long)
+}
