@@ -7,8 +7,13 @@ import mapm.top.CacheParams
   * the lower port and the miss-handling resources.
   *
   * Associativity above `maxWays` is built as `maxWays`-way set-associative with the same capacity
-  * and line size (docs/memory-port.md explains why a 4096-way CAM is not built); geometries with at
-  * most `maxWays` lines stay fully associative.
+  * and line size, with a hashed set index (docs/memory-port.md explains why a 4096-way CAM is not
+  * built, and why the hash); geometries with at most `maxWays` lines stay fully associative.
+  *
+  * Set index: normally the line address modulo the set count. Hashed: the XOR of all set-index-wide
+  * chunks of the line address (the lowest chunk XOR the next one XOR ...), which spreads the
+  * power-of-two strides of a pre-order KD-tree over the sets; the tag stays the line address above
+  * the lowest chunk, so a line is still identified by (set, tag).
   *
   * @param geometry    capacity, line size and associativity as specified
   * @param wordBytes   bytes per client read (8: a KD node, 32: a query record, an L1 line for an L2)
@@ -19,6 +24,7 @@ import mapm.top.CacheParams
   * @param targets     accesses that may wait on in-flight misses at once
   * @param maxWays     widest associativity built in hardware
   * @param counterBits width of the hit, miss and byte counters
+  * @param hashSets    hash the set index (always done where associativity is capped at `maxWays`)
   */
 final case class CacheConfig(
     geometry: CacheParams,
@@ -29,7 +35,8 @@ final case class CacheConfig(
     mshrs: Int = 4,
     targets: Int = 8,
     maxWays: Int = 16,
-    counterBits: Int = 40
+    counterBits: Int = 40,
+    hashSets: Boolean = false
 ) {
   private def isPow2(x: Int) = x > 0 && (x & (x - 1)) == 0
   require(isPow2(maxWays), s"cache maxWays must be a power of two, got $maxWays")
@@ -46,6 +53,8 @@ final case class CacheConfig(
   require(counterBits >= 16 && counterBits <= 64, s"cache counter width must be 16..64, got $counterBits")
   require(addressBits > lineOffsetBits + setBits, s"address width $addressBits leaves no tag bits for ${geometry.describe}")
 
+  /** The set index is hashed: asked for, or standing in for a fully associative geometry. */
+  def hashed: Boolean = (hashSets || geometry.ways > maxWays) && hw.sets > 1
   def ways: Int = hw.ways
   def sets: Int = hw.sets
   def lineBytes: Int = hw.lineBytes
@@ -66,10 +75,11 @@ final case class CacheConfig(
   /** The lower port: whole-line reads of `beatsPerLine` beats, one id per MSHR. */
   def down: MemPortParams = MemPortParams(addressBits, downBytes, mshrBits, beatsPerLine)
 
-  /** Module name with the geometry built, e.g. `ROCache_16k_l32_w2_r8` (r: client word bytes). */
+  /** Module name with the geometry built, e.g. `ROCache_16k_l32_w2_r8` (r: client word bytes;
+    * `w16x` for 16 ways with a hashed set index). */
   def name: String = {
     val size = if (hw.sizeBytes % 1024 == 0) s"${hw.sizeBytes / 1024}k" else s"${hw.sizeBytes}"
-    s"ROCache_${size}_l${hw.lineBytes}_w${hw.ways}_r$wordBytes"
+    s"ROCache_${size}_l${hw.lineBytes}_w${hw.ways}${if (hashed) "x" else ""}_r$wordBytes"
   }
 }
 

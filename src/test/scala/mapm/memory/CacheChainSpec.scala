@@ -14,7 +14,7 @@ import scala.util.Random
   * L2's reference model. */
 class CacheChain(val l1: CacheConfig, val n: Int, l2Geometry: CacheParams) extends Module {
   private val l2Up = if (n == 1) l1.down else l1.down.widenId(log2Ceil(n))
-  val l2: CacheConfig = CacheConfig.below(l2Up, l2Geometry, downBytes = 16, mshrs = 4, targets = 8)
+  val l2: CacheConfig = CacheConfig.below(l2Up, l2Geometry, downBytes = 16, mshrs = 4, targets = 8, maxWays = 4)
   val io = IO(new Bundle {
     val up = Vec(n, Flipped(new MemPort(l1.up)))
     val down = new MemPort(l2.down)
@@ -45,7 +45,8 @@ class CacheChain(val l1: CacheConfig, val n: Int, l2Geometry: CacheParams) exten
 class CacheChainSpec extends AnyFunSuite with Sim {
   private val memSize = 1 << 14
   private val l1 = CacheConfig(CacheParams(512, 32, 2), 8, 3, 16, downBytes = 32, mshrs = 2, targets = 4)
-  private val l2Geometry = CacheParams(2048, 64, 4)
+  // Fully associative, 32 lines: built 4-way with the hashed index, as the Table 4.2 L2s are.
+  private val l2Geometry = CacheParams(2048, 64, 32)
 
   private def run(c: CacheChain, seeds: Int): Unit = {
     c.clock.setTimeout(0)

@@ -89,6 +89,12 @@ class ReadOnlyCacheSpec extends AnyFunSuite with Sim {
     simulate(new ReadOnlyCache(cfg)) { c => randomRuns(c, 24, 800, 2048, streams(32)) }
   }
 
+  test("fully associative 64 lines built 4-way with the hashed set index (as the L2s): 24 seeds") {
+    val cfg = CacheConfig(CacheParams(2048, 32, 64), 8, 4, 16, 16, mshrs = 4, targets = 6, maxWays = 4)
+    assert(cfg.hashed && cfg.ways == 4 && cfg.sets == 16)
+    simulate(new ReadOnlyCache(cfg)) { c => randomRuns(c, 24, 1200, 16384, streams(8)) }
+  }
+
   test("direct mapped (SOQ-like) on launch-ordered records: only compulsory misses, as a FIFO; 24 seeds") {
     val cfg = CacheConfig(CacheParams(1024, 32, 1), 32, 5, 16, 16, mshrs = 4, targets = 8)
     simulate(new ReadOnlyCache(cfg)) { c =>
@@ -100,7 +106,7 @@ class ReadOnlyCacheSpec extends AnyFunSuite with Sim {
         val timing = DramTiming(Seq(2, 30, 300)(seed % 3), 0.5, 0.5)
         runSeed(c, seed, if (seed % 3 == 2) addrs.take(500) else addrs, timing, 0.8, 0.6)
         val used = if (seed % 3 == 2) addrs.take(500) else addrs
-        val fifo = new RefFullyAssociative(cfg.hw.lines, cfg.lineBytes, lru = false)
+        val fifo = new RefLruCache(1, cfg.hw.lines, cfg.lineBytes, lru = false)
         used.foreach(fifo.access)
         assert(c.io.counters.misses.peek().litValue == used.distinct.size, s"seed $seed: compulsory misses only")
         assert(fifo.misses == used.distinct.size, s"seed $seed: the FIFO cache agrees")
