@@ -63,6 +63,9 @@ final case class CacheConfig(
   def tagBits: Int = addressBits - lineOffsetBits - setBits
   def wordsPerLine: Int = lineBytes / wordBytes
   def beatsPerLine: Int = lineBytes / downBytes
+  /** Widths of a word index within a line and of a beat index (at least one bit). */
+  def wordIdxBits: Int = log2Ceil(wordsPerLine) max 1
+  def beatIdxBits: Int = log2Ceil(beatsPerLine) max 1
   /** Bits of the pseudo-LRU tree per set (none when direct mapped). */
   def plruBits: Int = ways - 1
   /** Index width of a data-array row (one line: set * ways + way). */

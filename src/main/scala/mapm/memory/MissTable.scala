@@ -7,14 +7,14 @@ import chisel3.util._
 class MissTarget(cfg: CacheConfig) extends Bundle {
   val mshr = UInt(cfg.mshrBits.W)
   /** Client word index within the line. */
-  val word = UInt((log2Ceil(cfg.wordsPerLine) max 1).W)
+  val word = UInt(cfg.wordIdxBits.W)
   val id = UInt(cfg.idBits.W)
 }
 
 /** A data-array read that serves a waiting access once its line has arrived. */
 class MissDrain(cfg: CacheConfig) extends Bundle {
   val row = UInt(cfg.rowBits.W)
-  val word = UInt((log2Ceil(cfg.wordsPerLine) max 1).W)
+  val word = UInt(cfg.wordIdxBits.W)
   val id = UInt(cfg.idBits.W)
 }
 
@@ -62,7 +62,7 @@ class MissTable(cfg: CacheConfig) extends Module {
     /** One beat of refill data to write: row `fill.bits.row`, beat slot `fill.bits.beat`. */
     val fill = Valid(new Bundle {
       val row = UInt(cfg.rowBits.W)
-      val beat = UInt((log2Ceil(cfg.beatsPerLine) max 1).W)
+      val beat = UInt(cfg.beatIdxBits.W)
       val data = UInt(cfg.down.dataBits.W)
     })
     val down = new MemPort(cfg.down)
@@ -73,7 +73,7 @@ class MissTable(cfg: CacheConfig) extends Module {
     val filled = Bool()
     val set = UInt(setW.W)
     val way = UInt(cfg.wayBits.W)
-    val beat = UInt((log2Ceil(cfg.beatsPerLine) max 1).W)
+    val beat = UInt(cfg.beatIdxBits.W)
   }
   val mshrs = RegInit(VecInit(Seq.fill(cfg.mshrs)(0.U.asTypeOf(new Mshr))))
   val lineAddrs = Reg(Vec(cfg.mshrs, UInt((cfg.addressBits - cfg.lineOffsetBits).W)))

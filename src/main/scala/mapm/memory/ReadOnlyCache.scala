@@ -45,15 +45,16 @@ class CacheCounters(bits: Int) extends Bundle {
   * After reset the cache clears its tag array, one set per cycle (`up.req.ready` stays low).
   *
   * Latency: a hit's response is valid 3 cycles after its request is accepted (lookup, data read,
-  * response register). A miss takes the lookup cycle, the request (1 cycle after lookup at the
-  * earliest), the lower level's latency and beats, then 3 more cycles (the line is filled, the
-  * waiting access is read, its response registered). Throughput: one request per cycle while hits
-  * flow and the client takes responses; responses to different ids may leave out of order.
+  * response register). A miss's response is valid 5 + B + L cycles after acceptance without
+  * contention, B the beats of a line on `down` and L the cycles the lower level waits beyond
+  * answering the cycle after it takes the request (lookup, request issue, the beats, then the
+  * waiting access's data read and response register); an L1 miss that hits an L2 built by
+  * [[CacheConfig.below]] thus takes 8 cycles. Throughput: one request per cycle while hits flow
+  * and the client takes responses; responses to different ids may leave out of order.
   */
 class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   override def desiredName = cfg.name
   private val respDepth = 3
-  private val wordIdxBits = log2Ceil(cfg.wordsPerLine) max 1
   private val setW = cfg.setBits max 1
 
   val io = IO(new Bundle {
@@ -174,7 +175,8 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   val s2Word = RegNext(Mux(miss.io.drain.valid, miss.io.drain.bits.word, wordOf(s1Addr)))
   val s2Id = RegNext(Mux(miss.io.drain.valid, miss.io.drain.bits.id, s1Id))
   respQ.io.enq.valid := s2Valid
-  respQ.io.enq.bits.data := line.asTypeOf(Vec(cfg.wordsPerLine, UInt(cfg.up.dataBits.W)))(s2Word)
+  private val words = line.asTypeOf(Vec(cfg.wordsPerLine, UInt(cfg.up.dataBits.W)))
+  respQ.io.enq.bits.data := (if (cfg.wordsPerLine == 1) words(0) else words(s2Word))
   respQ.io.enq.bits.id := s2Id
   respQ.io.enq.bits.last := true.B
   io.up.resp <> respQ.io.deq

@@ -100,6 +100,24 @@ class CacheChainSpec extends AnyFunSuite with Sim {
     simulate(new CacheChain(l1, 1, l2Geometry)) { c => run(c, 18) }
   }
 
+  test("latency through the chain: L1 miss hitting the L2 8 cycles, missing both 10 + L2 beats") {
+    simulate(new CacheChain(l1, 1, l2Geometry)) { c =>
+      c.clock.setTimeout(0)
+      val mem = new MemImage(memSize, 3)
+      val rnd = new Random(3)
+      c.io.up(0).req.valid.poke(false.B)
+      c.io.down.resp.valid.poke(false.B)
+      MemSim.reset(c.clock, c.reset)
+      val dram = new DramModel(c.io.down, mem, DramTiming(0, 1.0, 1.0), rnd)
+      // One read at a time: 128 misses both levels, 160 (the other half of its L2 line) only the L1.
+      for ((addr, want) <- Seq(128L -> (10 + c.l2.beatsPerLine), 160L -> 8)) {
+        val client = new PortClient(c.io.up(0), mem, IndexedSeq(addr), 1.0, 1.0, rnd)
+        MemSim.run(c.clock, Seq(() => client.drive(), () => dram.drive()), Seq(() => client.observe(), () => dram.observe()), client.done)
+        assert(client.latencies == Seq(want.toLong), s"read at $addr")
+      }
+    }
+  }
+
   test("two L1s sharing an L2 through the round-robin arbiter: 18 seeds") {
     simulate(new CacheChain(l1, 2, l2Geometry)) { c => run(c, 18) }
   }
