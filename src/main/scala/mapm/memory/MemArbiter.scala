@@ -5,8 +5,11 @@ import chisel3.util._
 
 /** Shares one memory port among `n` requesters (the caches) in round-robin order.
   *
-  * Each request leaves with its id widened by the requester's index in the top bits, so response
-  * beats route back by id alone: `down` has `log2Ceil(n)` more id bits than each `up` port. A
+  * The requesters' ports may differ in id width and longest request (e.g. an L2 fetching 4-beat
+  * lines beside the SOQ cache fetching 2-beat ones) but share the address width and beat size.
+  * Each request leaves with its id zero-extended to the widest `up` id and the requester's index
+  * on top, so response beats route back by id alone: `down` has `log2Ceil(n)` more id bits than the
+  * widest `up` port, and takes requests as long as the longest `up` port's. A
   * request, once presented on `down`, stays unchanged until it is taken (the grant is held), and
   * the next grant goes to the first requester after the last one served. At most `maxOutstanding`
   * requests are in flight on `down` (counted from request to last beat); further requests wait.
@@ -15,16 +18,23 @@ import chisel3.util._
   * Latency: none (combinational paths from `up` to `down` and back). Throughput: one request and
   * one response beat per cycle.
   */
-class MemArbiter(val upParams: MemPortParams, val n: Int, val maxOutstanding: Int) extends Module {
-  require(n >= 1, s"memory arbiter needs at least one port, got $n")
+class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends Module {
+  /** `n` requesters with the same port shape. */
+  def this(up: MemPortParams, n: Int, maxOutstanding: Int) = this(Seq.fill(n)(up), maxOutstanding)
+
+  val n: Int = ups.size
+  require(n >= 1, "memory arbiter needs at least one port")
   require(maxOutstanding >= 1, s"memory arbiter outstanding limit must be at least 1, got $maxOutstanding")
+  require(ups.map(p => (p.addressBits, p.dataBytes)).distinct.size == 1,
+    s"memory arbiter ports must share address width and beat size, got ${ups.map(p => (p.addressBits, p.dataBytes)).distinct.mkString(", ")}")
   override def desiredName = s"MemArbiter_n${n}_o$maxOutstanding"
   private val srcBits = log2Ceil(n)
   private val selBits = srcBits max 1 // width of the grant registers
-  val downParams: MemPortParams = upParams.widenId(srcBits)
+  private val idBits = ups.map(_.idBits).max
+  val downParams: MemPortParams = MemPortParams(ups.head.addressBits, ups.head.dataBytes, idBits + srcBits, ups.map(_.maxBeats).max)
 
   val io = IO(new Bundle {
-    val up = Vec(n, Flipped(new MemPort(upParams)))
+    val up = MixedVec(ups.map(p => Flipped(new MemPort(p))))
     val down = new MemPort(downParams)
   })
 
@@ -47,10 +57,12 @@ class MemArbiter(val upParams: MemPortParams, val n: Int, val maxOutstanding: In
   val any = valids.orR
 
   io.down.req.valid := room && any
-  private def chosen[T <: Data](f: MemPort => T): T = if (n == 1) f(io.up(0)) else VecInit(io.up.map(f))(src)
-  io.down.req.bits.addr := chosen(_.req.bits.addr)
-  io.down.req.bits.len := chosen(_.req.bits.len)
-  io.down.req.bits.id := (if (n == 1) io.up(0).req.bits.id else Cat(src, chosen(_.req.bits.id)))
+  /** The granted requester's field, zero-extended to `width`. */
+  private def chosen(f: MemPort => UInt, width: Int): UInt =
+    if (n == 1) f(io.up(0)).pad(width) else VecInit(io.up.map(f(_).pad(width)))(src)
+  io.down.req.bits.addr := chosen(_.req.bits.addr, downParams.addressBits)
+  io.down.req.bits.len := chosen(_.req.bits.len, downParams.lenBits)
+  io.down.req.bits.id := (if (n == 1) chosen(_.req.bits.id, idBits) else Cat(src, chosen(_.req.bits.id, idBits)))
   for (i <- 0 until n) io.up(i).req.ready := room && io.down.req.ready && src === i.U
   when(io.down.req.valid) {
     held := !io.down.req.ready
@@ -59,11 +71,11 @@ class MemArbiter(val upParams: MemPortParams, val n: Int, val maxOutstanding: In
   when(issued) { last := src }
 
   // Response beats route back by the source bits of their id.
-  val respSrc = if (n == 1) 0.U else io.down.resp.bits.id(upParams.idBits + srcBits - 1, upParams.idBits)
+  val respSrc = if (n == 1) 0.U else io.down.resp.bits.id(idBits + srcBits - 1, idBits)
   for (i <- 0 until n) {
     io.up(i).resp.valid := io.down.resp.valid && respSrc === i.U
     io.up(i).resp.bits.data := io.down.resp.bits.data
-    io.up(i).resp.bits.id := io.down.resp.bits.id(upParams.idBits - 1, 0)
+    io.up(i).resp.bits.id := io.down.resp.bits.id(ups(i).idBits - 1, 0)
     io.up(i).resp.bits.last := io.down.resp.bits.last
   }
   io.down.resp.ready := (if (n == 1) io.up(0).resp.ready else VecInit(io.up.map(_.resp.ready))(respSrc))

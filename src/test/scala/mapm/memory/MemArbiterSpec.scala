@@ -74,8 +74,14 @@ final class BurstClient(port: MemPort, mem: MemImage, count: Int, reqValid: Doub
 class MemArbiterSpec extends AnyFunSuite with Sim {
   private val up = MemPortParams(addressBits = 16, dataBytes = 8, idBits = 2, maxBeats = 4)
 
-  for ((n, limit) <- Seq((3, 4), (4, 16))) test(s"$n ports, at most $limit in flight: routing, limit, round-robin over 12 seeds") {
-    simulate(new MemArbiter(up, n, limit)) { c =>
+  // Ports of one shape, and the shapes of the MAPM's memory clients (two L2s with 4-beat lines
+  // and different id widths, the SOQ cache with 2-beat lines).
+  private val mixed = Seq(up, up.copy(idBits = 3, maxBeats = 2), up.copy(idBits = 1))
+  for ((ports, limit) <- Seq((Seq.fill(3)(up), 4), (Seq.fill(4)(up), 16), (mixed, 6)))
+    test(s"${ports.size} ports ${ports.map(p => s"${p.idBits}b/${p.maxBeats}x").mkString(",")}, at most $limit in flight: " +
+      "routing, limit, round-robin over 12 seeds") {
+    val n = ports.size
+    simulate(new MemArbiter(ports, limit)) { c =>
       c.clock.setTimeout(0)
       for (seed <- 0 until 12) {
         val rnd = new Random(seed)
@@ -91,7 +97,7 @@ class MemArbiterSpec extends AnyFunSuite with Sim {
         val dram = new DramModel(c.io.down, mem, timing, rnd)
         val grants = () => {
           if (c.io.down.req.valid.peek().litToBoolean && c.io.down.req.ready.peek().litToBoolean) {
-            val src = (c.io.down.req.bits.id.peek().litValue >> up.idBits).toInt
+            val src = (c.io.down.req.bits.id.peek().litValue >> ports.map(_.idBits).max).toInt
             clients.filter(k => k.index != src && k.waiting).foreach(_.othersWhileWaiting += 1)
           }
           false

@@ -40,7 +40,8 @@ class MemoryLintSpec extends AnyFunSuite {
   }
 
   test("memory arbiters lint clean") {
-    lint("arb3", new MemArbiter(configs(2)._2.down, 3, mem.maxOutstanding))
+    // The MAPM's memory port: TS L2, SOQ and SOP L2 (different id widths and line lengths).
+    lint("arbMem", new MemArbiter(Seq(configs(1)._2.down, configs(2)._2.down, configs(4)._2.down), mem.maxOutstanding))
     lint("arb1", new MemArbiter(configs(5)._2.down, 1, 1))
     lint("arb16", new MemArbiter(tsL1.down, 16, 8))
   }
