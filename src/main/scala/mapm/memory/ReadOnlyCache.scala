@@ -36,6 +36,7 @@ class CacheCounters(bits: Int) extends Bundle {
   *    the [[MissTable]] and is served after the line's last beat;
   *  - miss: the victim is the lowest invalid way, else the tree pseudo-LRU way ([[TreePlru]]); the
   *    new tag is written at once, an MSHR fetches the line and the access waits on it.
+  * The set index is the line address modulo the set count, or hashed ([[CacheConfig.hashed]]).
   * The lookup stalls (in order) when the victim way is still held by an MSHR, when no MSHR or
   * target slot is free, or when a hit finds the data read port or the response queue taken. Waiting
   * accesses whose line has arrived have priority for the data read port. A response-queue credit
@@ -73,7 +74,14 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   private val lineWordBits = cfg.lineOffsetBits - wordOff
   private def wordAddr(byteAddr: UInt): UInt = byteAddr(cfg.addressBits - 1, wordOff)
   private def setOf(wa: UInt): UInt =
-    if (cfg.setBits == 0) 0.U(1.W) else wa(lineWordBits + cfg.setBits - 1, lineWordBits)
+    if (cfg.setBits == 0) 0.U(1.W)
+    else if (!cfg.hashed) wa(lineWordBits + cfg.setBits - 1, lineWordBits)
+    else {
+      // XOR of the set-index-wide chunks of the line address (CacheConfig.hashed).
+      val line = wa(cfg.addressBits - wordOff - 1, lineWordBits)
+      val chunks = (0 until line.getWidth by cfg.setBits).map(lo => line((lo + cfg.setBits - 1) min (line.getWidth - 1), lo))
+      chunks.reduce(_ ^ _)
+    }
   private def tagOf(wa: UInt): UInt = wa(cfg.addressBits - wordOff - 1, lineWordBits + cfg.setBits)
   private def wordOf(wa: UInt): UInt = if (lineWordBits == 0) 0.U(1.W) else wa(lineWordBits - 1, 0)
   private def rowOf(set: UInt, way: UInt): UInt =
