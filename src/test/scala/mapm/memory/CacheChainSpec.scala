@@ -96,8 +96,8 @@ class CacheChainSpec extends AnyFunSuite with Sim {
     info(s"$seeds seeds, $reads reads checked")
   }
 
-  test("an L1 wired straight into an L2 (the L2's word is the L1's line): 18 seeds") {
-    simulate(new CacheChain(l1, 1, l2Geometry)) { c => run(c, 18) }
+  test("an L1 wired straight into an L2 (the L2's word is the L1's line): 24 seeds") {
+    simulate(new CacheChain(l1, 1, l2Geometry)) { c => run(c, 24) }
   }
 
   test("latency through the chain: L1 miss hitting the L2 8 cycles, missing both 10 + L2 beats") {
@@ -118,7 +118,7 @@ class CacheChainSpec extends AnyFunSuite with Sim {
     }
   }
 
-  test("two L1s sharing an L2 through the round-robin arbiter: 18 seeds") {
-    simulate(new CacheChain(l1, 2, l2Geometry)) { c => run(c, 18) }
+  test("two L1s sharing an L2 through the round-robin arbiter: 24 seeds") {
+    simulate(new CacheChain(l1, 2, l2Geometry)) { c => run(c, 24) }
   }
 }

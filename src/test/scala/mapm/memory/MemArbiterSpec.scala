@@ -79,11 +79,11 @@ class MemArbiterSpec extends AnyFunSuite with Sim {
   private val mixed = Seq(up, up.copy(idBits = 3, maxBeats = 2), up.copy(idBits = 1))
   for ((ports, limit) <- Seq((Seq.fill(3)(up), 4), (Seq.fill(4)(up), 16), (mixed, 6)))
     test(s"${ports.size} ports ${ports.map(p => s"${p.idBits}b/${p.maxBeats}x").mkString(",")}, at most $limit in flight: " +
-      "routing, limit, round-robin over 12 seeds") {
+      "routing, limit, round-robin over 16 seeds") {
     val n = ports.size
     simulate(new MemArbiter(ports, limit)) { c =>
       c.clock.setTimeout(0)
-      for (seed <- 0 until 12) {
+      for (seed <- 0 until 16) {
         val rnd = new Random(seed)
         val mem = new MemImage(1 << 12, seed)
         c.io.up.foreach(_.req.valid.poke(false.B))
