@@ -69,7 +69,7 @@ final case class QueueParams(
 /** The memory port shared by all caches. */
 final case class MemoryParams(
     dataBytes: Int = 16,      // bytes per response beat
-    maxOutstanding: Int = 16, // requests in flight at once (id width = log2 of this)
+    maxOutstanding: Int = 16, // requests in flight at once on the memory port (the outermost MemArbiter's limit)
     addressBits: Int = 32     // byte address width
 ) {
   require(dataBytes >= 4 && (dataBytes & (dataBytes - 1)) == 0, s"memory data width must be a power of two of at least 4 bytes, got $dataBytes")
