@@ -1,0 +1,58 @@
+package mapm.top
+
+import chisel3._
+import chisel3.util._
+
+/** Run-time configuration of one MAPM, held constant for a whole frame (docs/mapm.md). */
+class MapmConfig(p: MapmParams) extends Bundle {
+  /** Kernel radius h: format bits. */
+  val h = UInt(p.numbers.format.width.W)
+  /** Byte address of node record 0 (8-byte records). */
+  val nodeBase = UInt(p.memory.addressBits.W)
+  /** Byte address of photon record 0 (32-byte records, node order). */
+  val photonBase = UInt(p.memory.addressBits.W)
+  /** Byte address of query record 0 (32-byte records). */
+  val queryBase = UInt(p.memory.addressBits.W)
+  /** Nodes in the photon tree (0 = empty tree: every query finishes with no operation). */
+  val nodeCount = UInt((p.indices.nodeBits + 1).W)
+}
+
+/** One tree-search instruction from the host: the query's position and index. */
+class QueryIn(p: MapmParams) extends Bundle {
+  val x = UInt(p.numbers.format.width.W)
+  val y = UInt(p.numbers.format.width.W)
+  val z = UInt(p.numbers.format.width.W)
+  val q = UInt(p.indices.queryBits.W)
+}
+
+/** Everything a search and its shader operations need of their query: position, contribution
+  * (read once from the SOQ cache when the query is issued) and index. */
+class QueryData(p: MapmParams) extends Bundle {
+  val x = UInt(p.numbers.format.width.W)
+  val y = UInt(p.numbers.format.width.W)
+  val z = UInt(p.numbers.format.width.W)
+  val contrib = Vec(3, UInt(p.numbers.format.width.W))
+  val q = UInt(p.indices.queryBits.W)
+}
+
+/** One shader operation: a query and the photon of node `photon`. */
+class SoOp(p: MapmParams) extends Bundle {
+  val query = new QueryData(p)
+  val photon = UInt(p.indices.nodeBits.W)
+}
+
+/** The shader operations of one tree-search operation, in Nextnode's order: left child, right
+  * child, current node. They move as one: a handshake hands over every valid op at once. */
+class SoGroup(p: MapmParams) extends Bundle {
+  val ops = Vec(3, Valid(new SoOp(p)))
+}
+
+/** The result of one shader operation: colour bits and flags per channel (OVF 1, UNF 2, INV 4),
+  * the cond check, and which query and photon it belongs to. */
+class SoResult(p: MapmParams) extends Bundle {
+  val colour = Vec(3, UInt(p.numbers.format.width.W))
+  val flags = Vec(3, UInt(3.W))
+  val cond = Bool()
+  val q = UInt(p.indices.queryBits.W)
+  val photon = UInt(p.indices.nodeBits.W)
+}
