@@ -122,4 +122,18 @@ object MapmParams {
 
   /** The default configuration: 16/16/2 at fp32, the dissertation's best throughput per area. */
   val default: MapmParams = table48(16, 16, 2)
+
+  /** The configuration a command line asks for: module counts, format and guard digits, and
+    * optionally the queue sizes; everything else as [[table48]] sizes it. A broken constraint is a
+    * one-line [[mapm.MapmError]] naming it, not an exception. */
+  def of(tsm: Int, som: Int, soa: Int, format: FloatFormat, g: Int,
+         registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None): MapmParams =
+    try {
+      val base = table48(tsm, som, soa)
+      base.copy(
+        numbers = NumberParams(format, g),
+        queues = QueueParams(registerQueueDepth.getOrElse(base.queues.registerQueueDepth), rsEntries.getOrElse(base.queues.rsEntries)))
+    } catch {
+      case e: IllegalArgumentException => mapm.MapmError.fail(s"configuration ${tsm}/${som}/${soa} ${format.name}: ${e.getMessage.stripPrefix("requirement failed: ")}")
+    }
 }
