@@ -9,8 +9,10 @@ package mapm.model
   * The part of the chain shared by the three channels (MUL1, the divider, QN) depends on kernel,
   * BRDF and h alone, which are the same for every photon of a [[PhotonMap]] (a constant disc
   * kernel, a Lambertian BRDF, one h; see [[Shading]]): the last one computed is kept and reused
-  * while its inputs repeat. Thread-safe: the cache is one immutable record behind a volatile field
-  * (a thread that misses it recomputes the same value).
+  * while its inputs repeat. With it, MUL2 (Q' × power) depends on the photon's power alone; its
+  * products are kept per power value (up to [[HardwareShadeArith.Mul2Entries]] of them), so a
+  * photon met by many queries costs one MUL3 per channel. Thread-safe: the cache is one record
+  * behind a volatile field with a concurrent map (a thread that misses recomputes the same value).
   *
   * [[condClearBounds]]: CondModel rounds the same five operations to nearest with flush to zero
   * as [[RoundedShadeArith]] does (each within a factor 1 -/+ u, flushed terms below 5 smallest
@@ -30,15 +32,28 @@ final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends Shad
   private val condLo = math.pow(1 - u, 6) * (1 - 1e-12)
   private val condAbs = 8 * format.minNormal
 
-  /** The shared part of the chain for (kernel, BRDF, h), from the cache when it repeats. */
-  def front(kernel: Long, brdf: Long, h: Long): ShaderChainModel.Front = {
+  /** The cache record for (kernel, BRDF, h): the shared part of the chain and its MUL2 products. */
+  private def lookup(kernel: Long, brdf: Long, h: Long): Cached = {
     val c = cached
-    if (c.kernel == kernel && c.brdf == brdf && c.h == h) c.front
+    if (c.kernel == kernel && c.brdf == brdf && c.h == h) c
     else {
-      val f = chain.front(kernel, brdf, h)
-      cached = new Cached(kernel, brdf, h, f)
-      f
+      val fresh = new Cached(kernel, brdf, h, chain.front(kernel, brdf, h))
+      cached = fresh
+      fresh
     }
+  }
+
+  /** The shared part of the chain for (kernel, BRDF, h), from the cache when it repeats. */
+  def front(kernel: Long, brdf: Long, h: Long): ShaderChainModel.Front = lookup(kernel, brdf, h).front
+
+  /** One channel through the cached front and MUL2 product. */
+  private def channel(c: Cached, power: Long, contrib: Long): ShaderChainModel.Result = {
+    var p2 = c.mul2.get(power)
+    if (p2 == null) {
+      p2 = chain.mul2(c.front, power)
+      if (p2 != null && c.mul2.size < HardwareShadeArith.Mul2Entries) c.mul2.put(power, p2)
+    }
+    chain.channel(c.front, power, p2, contrib)
   }
 
   def cond(qx: Long, qy: Long, qz: Long, px: Long, py: Long, pz: Long, h: Long): Boolean =
@@ -54,25 +69,30 @@ final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends Shad
   }
 
   def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Long =
-    chain.channel(front(kernel, brdf, h), power, contrib).bits
+    channel(lookup(kernel, brdf, h), power, contrib).bits
 
   override def shade(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
                      out: Array[Long]): Unit = {
-    val f = front(kernel, brdf, h)
-    out(0) = chain.channel(f, pr, cr).bits; out(1) = chain.channel(f, pg, cg).bits; out(2) = chain.channel(f, pb, cb).bits
+    val f = lookup(kernel, brdf, h)
+    out(0) = channel(f, pr, cr).bits; out(1) = channel(f, pg, cg).bits; out(2) = channel(f, pb, cb).bits
   }
 
   override def hasFlags: Boolean = true
 
   override def shadeFlags(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
                           out: Array[Long], flags: Array[Int]): Unit = {
-    val f = front(kernel, brdf, h)
-    val r = chain.channel(f, pr, cr); out(0) = r.bits; flags(0) = r.flags
-    val gr = chain.channel(f, pg, cg); out(1) = gr.bits; flags(1) = gr.flags
-    val b = chain.channel(f, pb, cb); out(2) = b.bits; flags(2) = b.flags
+    val f = lookup(kernel, brdf, h)
+    val r = channel(f, pr, cr); out(0) = r.bits; flags(0) = r.flags
+    val gr = channel(f, pg, cg); out(1) = gr.bits; flags(1) = gr.flags
+    val b = channel(f, pb, cb); out(2) = b.bits; flags(2) = b.flags
   }
 }
 
 object HardwareShadeArith {
-  private final class Cached(val kernel: Long, val brdf: Long, val h: Long, val front: ShaderChainModel.Front)
+  /** The most MUL2 products kept per (kernel, BRDF, h). */
+  val Mul2Entries = 1 << 16
+
+  private final class Cached(val kernel: Long, val brdf: Long, val h: Long, val front: ShaderChainModel.Front) {
+    val mul2 = new java.util.concurrent.ConcurrentHashMap[java.lang.Long, DigitString]()
+  }
 }
