@@ -235,9 +235,10 @@ object Render {
     val failure = new java.util.concurrent.atomic.AtomicReference[Throwable](null)
     val ts = Array.fill(threads)(new Thread(() => {
       val searcher = new TreeSearcher(map.search)
+      val codec = new FormatBits(map.format)
       var b = next.getAndIncrement()
       while (b < parts.length && failure.get == null) {
-        parts(b) = new OpBlock(map, queries, arith, searcher, b * block, math.min(nq, (b + 1) * block))
+        parts(b) = new OpBlock(map, queries, arith, searcher, codec, b * block, math.min(nq, (b + 1) * block))
         b = next.getAndIncrement()
       }
     }))
@@ -269,9 +270,10 @@ object Render {
       SearchStats(nq.toLong, tsOps, n.toLong, cond.count(identity).toLong, map.size, map.tree.levels))
   }
 
-  /** The shader operations of queries from until until, in traversal order. */
+  /** The shader operations of queries from until until, in traversal order. cond is decided as
+    * in [[Worker]]: plain doubles settle the clear cases, [[ShadeArith.cond]] the others. */
   private final class OpBlock(map: PhotonMap, queries: QuerySet, arith: ShadeArith, searcher: TreeSearcher,
-                              from: Int, until: Int) {
+                              codec: FormatBits, from: Int, until: Int) {
     var size = 0
     var tsOps = 0L
     var query = new Array[Int](256)
@@ -292,8 +294,10 @@ object Render {
       val fl = new Array[Int](3)
       val withFlags = arith.hasFlags
       val h = map.h
+      val (lo, hi) = arith.condClearBounds(h)
       for (q <- from until until) {
-        searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
+        val x = queries.x(q); val y = queries.y(q); val z = queries.z(q)
+        searcher.search(x, y, z, map.hValue)
         tsOps += searcher.tsCount
         val n = searcher.soCount
         grow(size + n)
@@ -304,7 +308,12 @@ object Render {
           if (withFlags) arith.shadeFlags(map.kernel(i), map.brdf(i), h, map.power(0)(i), map.power(1)(i), map.power(2)(i), cr, cg, cb, out, fl)
           else arith.shade(map.kernel(i), map.brdf(i), h, map.power(0)(i), map.power(1)(i), map.power(2)(i), cr, cg, cb, out)
           for (c <- 0 until 3) { color(c)(size) = out(c); flags(c)(size) = fl(c).toByte }
-          cond(size) = arith.cond(queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), h)
+          val ex = x - codec.toDouble(map.px(i)); val ey = y - codec.toDouble(map.py(i)); val ez = z - codec.toDouble(map.pz(i))
+          val e2 = ex * ex + ey * ey + ez * ez
+          val clearIn = e2 * (1 + 1e-12) + 1e-300 < lo
+          cond(size) =
+            if (clearIn || e2 * (1 - 1e-12) > hi) clearIn
+            else arith.cond(queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), h)
           size += 1
         }
       }
