@@ -4,15 +4,15 @@ import java.nio.file.Paths
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.FloatFormat
-import mapm.shader.ShaderChain
+import mapm.shader.{CondCheck, SOA, ShaderChain}
 import mapm.sim.Emit
 import Args.FloatFormatReader
 
-/** `mapm emit-soa`: writes the SystemVerilog of the shader-operation datapath (today the colour
-  * chain [[ShaderChain]]) through CIRCT, and prints its latency and register count. */
+/** `mapm emit-soa`: writes the SystemVerilog of the shader-operation accelerator [[SOA]] (colour
+  * chain and cond check) through CIRCT, and prints its latencies and register count. */
 object EmitSoaCommand extends Command {
   val name = "emit-soa"
-  val summary = "emit the SOA shader chain as SystemVerilog"
+  val summary = "emit the SOA (colour chain and cond check) as SystemVerilog"
 
   @main
   def emitSoa(
@@ -24,13 +24,15 @@ object EmitSoaCommand extends Command {
     MapmError.check(g >= 0 && g <= 8, s"emit-soa: --g must be 0..8, got $g")
     MapmError.check(format.manWidth >= 4, s"emit-soa: format $format needs at least 4 fraction bits")
     MapmError.check(tagWidth >= 1 && tagWidth <= 64, s"emit-soa: --tag-width must be 1..64, got $tagWidth")
-    val top = ShaderChain.name(format, g)
+    val top = SOA.name(format, g)
     val file =
-      try Emit.toFile(new ShaderChain(format, g, tagWidth), Paths.get(out), s"$top.sv")
+      try Emit.toFile(new SOA(format, g, tagWidth), Paths.get(out), s"$top.sv")
       catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write $out/$top.sv: ${e.getMessage}") }
     val sv = new String(java.nio.file.Files.readAllBytes(file), "UTF-8")
     println(s"wrote $file ($top: format $format, g = $g, N = ${format.manWidth + 1 + g} digits per unit)")
-    for ((unit, cycles) <- ShaderChain.unitLatencies(format, g)) println(f"  latency $unit%-36s $cycles%3d cycles")
+    val units = ShaderChain.unitLatencies(format, g) ++
+      Seq("cond check" -> CondCheck.latency(), "SOA (colours, flags, cond, tag)" -> SOA.latency(format, g))
+    for ((unit, cycles) <- units) println(f"  latency $unit%-36s $cycles%3d cycles")
     println(s"  flip-flops: ${SvStats.registerBits(sv, Some(top))}")
     0
   }

@@ -5,7 +5,8 @@ import mapm.MapmError
 import mapm.model._
 
 /** The software render shared by `model` and `render`: scene file -> [[Frame]] -> tree search
-  * and shading in the accelerator's arithmetic and in float64 -> image files and stats JSON.
+  * and shading in the accelerator's arithmetic (the SOA bit for bit, [[ShadeArith.hardware]] with
+  * `g` guard digits) and in float64 -> image files and stats JSON.
   *
   * Outputs in `outDir`, named after the scene (`name`):
   *  - `name.png`, `name.pfm`: the viewable frame, direct light plus the indirect light computed
@@ -31,14 +32,15 @@ object ModelRun {
     SceneConfig.load(p)
   }
 
-  def run(scene: String, format: Option[FloatFormat], outDir: String, threads: Int, quiet: Boolean = false): Result = {
+  def run(scene: String, format: Option[FloatFormat], outDir: String, threads: Int, quiet: Boolean = false, g: Int = 3): Result = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
+    MapmError.check(g >= 0 && g <= 8, s"--g must be 0..8, got $g")
     val wall0 = System.nanoTime()
     val config = loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
     val frame = Frame.prepare(config, fmt, threads)
     val t0 = System.nanoTime()
-    val hw = Render.run(frame.map, frame.querySet, frame.pixels, ShadeArith.rounded(fmt), threads, Some("search+shade"))
+    val hw = Render.run(frame.map, frame.querySet, frame.pixels, ShadeArith.hardware(fmt, g), threads, Some("search+shade"))
     val t1 = System.nanoTime()
     val refMap = PhotonMap.fromTree(frame.map.tree, frame.photons, FloatFormat.fp64, frame.h)
     val ref = Render.run(refMap, QuerySet.build(frame.queries, FloatFormat.fp64), frame.pixels, ShadeArith.float64, threads)
@@ -63,7 +65,7 @@ object ModelRun {
     val wall = (System.nanoTime() - wall0) / 1e9
     val searchSecs = (t1 - t0) / 1e9
     val json = ujson.Obj(
-      "scene" -> scene, "format" -> fmt.toString, "width" -> frame.width, "height" -> frame.height,
+      "scene" -> scene, "format" -> fmt.toString, "g" -> g, "width" -> frame.width, "height" -> frame.height,
       "finalGatherRays" -> config.finalGatherRays, "photons" -> hw.stats.photons, "emittedPhotonPaths" -> frame.emittedPaths.toDouble,
       "h" -> frame.h, "hQuantized" -> frame.map.hValue, "hBits" -> fmt.hex(frame.map.h),
       "queries" -> hw.stats.queries.toDouble, "treeSearchOps" -> hw.stats.treeSearchOps.toDouble,
@@ -74,7 +76,7 @@ object ModelRun {
       "stageSeconds" -> ujson.Obj.from(times.stages.map { case (k, v) => k -> ujson.Num(v) }))
     Files.write(files(4), ujson.write(json, indent = 2).getBytes("UTF-8"))
     if (!quiet) {
-      println(s"scene ${config.file} (${frame.width}x${frame.height}, ${config.finalGatherRays} final-gather rays), format $fmt, h = ${frame.map.hValue}")
+      println(s"scene ${config.file} (${frame.width}x${frame.height}, ${config.finalGatherRays} final-gather rays), format $fmt (SOA g = $g), h = ${frame.map.hValue}")
       println(hw.stats.describe)
       println(f"PSNR of the $fmt indirect image against float64: ${if (psnr.isInfinite) "inf" else f"$psnr%.2f dB"}")
       println(times.stages.map { case (k, v) => f"$k $v%.2fs" }.mkString("time: ", ", ", f"; wall $wall%.2fs"))

@@ -3,14 +3,15 @@ package mapm.cli
 import java.nio.file.Paths
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{FloatFormat, ShaderChainModel, ShaderVectors}
-import mapm.shader.ShaderChainSim
+import mapm.model.{CondModel, FloatFormat, ShaderChainModel, ShaderVectors}
+import mapm.shader.{SOA, SoaSim}
 import Args.FloatFormatReader
 
 /** `mapm soa-vectors`: runs a shader-chain vector file (../shared/vectors format) through the
   * bit-accurate model, comparing every column (result, flags, s, m, E and the digit strings),
-  * and with `--hw` through the emitted SystemVerilog in Verilator (result and flags of each
-  * row, driven on all three channels). Prints the mismatch count and the first mismatch of
+  * and with `--hw` through the emitted SystemVerilog of the [[SOA]] in Verilator (result and
+  * flags of each row, driven on all three channels). The vectors carry no positions: the SOA
+  * gets query and photon at the origin, so cond must be 0 < h·h ([[CondModel]]). Prints the mismatch count and the first mismatch of
   * each; exits 1 if there is any. */
 object SoaVectorsCommand extends Command {
   val name = "soa-vectors"
@@ -36,24 +37,27 @@ object SoaVectorsCommand extends Command {
 
     val hwCount = if (!hw.value) 0 else {
       val t1 = System.nanoTime()
-      val sim = new ShaderChainSim(format, g)
+      val sim = new SoaSim(format, g)
       val t2 = System.nanoTime()
       var k = 0; var count = 0; var first: Option[String] = None
       val ops = rows.iterator.zipWithIndex.map { case (r, i) =>
-        Some(ShaderChainSim.Op(Array(r.kernel, r.brdf, r.h, r.power, r.power, r.power, r.contrib, r.contrib, r.contrib), i & 0xffff))
+        Some(SoaSim.Op(Array(r.kernel, r.brdf, r.h, r.power, r.power, r.power, r.contrib, r.contrib, r.contrib) ++
+          Array.fill(6)(0L), i & 0xffff))
       }
       sim.run(ops) { o =>
         val r = rows(k)
+        val cond = CondModel.cond(format, 0L, 0L, 0L, 0L, 0L, 0L, r.h)
         val bad = (0 until 3).filter(c => o.colour(c) != r.expected || o.flags(c) != r.flags)
-        if (bad.nonEmpty || o.tag != (k & 0xffff)) {
+        if (bad.nonEmpty || o.cond != cond || o.tag != (k & 0xffff)) {
           count += 1
-          if (first.isEmpty) first = Some(s"row id ${r.id} (line ${r.line}): expected ${format.hex(r.expected)} flags ${r.flags}, " +
-            s"hardware ${(0 until 3).map(c => s"${format.hex(o.colour(c))}/${o.flags(c)}").mkString(" ")} (tag ${o.tag})")
+          if (first.isEmpty) first = Some(s"row id ${r.id} (line ${r.line}): expected ${format.hex(r.expected)} flags ${r.flags} " +
+            s"cond $cond, hardware ${(0 until 3).map(c => s"${format.hex(o.colour(c))}/${o.flags(c)}").mkString(" ")} " +
+            s"cond ${o.cond} (tag ${o.tag})")
         }
         k += 1
       }
       if (k != rows.length) { count += rows.length - k; if (first.isEmpty) first = Some(s"${rows.length - k} rows produced no result") }
-      println(f"hardware: Verilator build ${(t2 - t1) / 1e9}%.1f s")
+      println(f"hardware: ${SOA.name(format, g)}, Verilator build ${(t2 - t1) / 1e9}%.1f s")
       report("hardware", rows.length, count, first, (System.nanoTime() - t2) / 1e9)
       count
     }

@@ -24,12 +24,14 @@ final class RenderResult(val rgb: Array[Double], val stats: SearchStats) {
 
 /** Every shader operation of a run in traversal order (queries in order; within a query the
   * search's issue order), for comparison with the hardware: query index, photon node index, the
-  * three colour channels as format bit patterns, and cond. Colour is computed whether or not cond
-  * holds, as the SOA does. */
+  * three colour channels as format bit patterns, their SOA flags (OVF 1, UNF 2, INV 4; present
+  * when the arithmetic models them, [[ShadeArith.hasFlags]]) and cond. Colour is computed whether
+  * or not cond holds, as the SOA does. */
 final class ShaderOpList(
     val query: Array[Int],
     val node: Array[Int],
     val color: Array[Array[Long]],
+    val flags: Option[Array[Array[Byte]]],
     val cond: Array[Boolean],
     val stats: SearchStats
 ) {
@@ -219,31 +221,102 @@ object Render {
     }
   }
 
-  /** Every shader operation of every query, in traversal order (one thread; meant for small scenes
-    * and golden comparisons with the hardware). */
-  def shaderOps(map: PhotonMap, queries: QuerySet, arith: ShadeArith): ShaderOpList = {
+  /** Every shader operation of every query, in traversal order, on `threads` threads (each takes
+    * blocks of consecutive queries; the blocks are joined in query order, so the list is the same
+    * for any thread count). Meant for golden comparisons with the hardware: every SO is shaded,
+    * with flags when `arith` has them. */
+  def shaderOps(map: PhotonMap, queries: QuerySet, arith: ShadeArith, threads: Int = 1): ShaderOpList = {
     check(map, queries, arith)
-    val searcher = new TreeSearcher(map.search)
-    val qi = Array.newBuilder[Int]; val ni = Array.newBuilder[Int]
-    val col = Array.fill(3)(Array.newBuilder[Long]); val cd = Array.newBuilder[Boolean]
-    var ts = 0L; var passing = 0L
-    val out = new Array[Long](3)
-    for (q <- 0 until queries.size) {
-      searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
-      ts += searcher.tsCount
-      for (k <- 0 until searcher.soCount) {
-        val i = searcher.so(k)
-        qi += q; ni += i
-        arith.shade(map.kernel(i), map.brdf(i), map.h, map.power(0)(i), map.power(1)(i), map.power(2)(i),
-          queries.contribution(0)(q), queries.contribution(1)(q), queries.contribution(2)(q), out)
-        for (c <- 0 until 3) col(c) += out(c)
-        val ok = arith.cond(queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h)
-        cd += ok
-        if (ok) passing += 1
+    MapmError.check(threads >= 1, s"shader ops: thread count must be at least 1, got $threads")
+    val nq = queries.size
+    val block = 64
+    val parts = new Array[OpBlock]((nq + block - 1) / block)
+    val next = new java.util.concurrent.atomic.AtomicInteger(0)
+    val failure = new java.util.concurrent.atomic.AtomicReference[Throwable](null)
+    val ts = Array.fill(threads)(new Thread(() => {
+      val searcher = new TreeSearcher(map.search)
+      val codec = new FormatBits(map.format)
+      var b = next.getAndIncrement()
+      while (b < parts.length && failure.get == null) {
+        parts(b) = new OpBlock(map, queries, arith, searcher, codec, b * block, math.min(nq, (b + 1) * block))
+        b = next.getAndIncrement()
+      }
+    }))
+    ts.foreach(_.setUncaughtExceptionHandler((_, e) => failure.compareAndSet(null, e)))
+    ts.foreach(_.start())
+    ts.foreach(_.join())
+    if (failure.get != null) throw failure.get
+    val total = parts.map(_.size.toLong).sum
+    MapmError.check(total <= Int.MaxValue, s"shader ops: $total operations do not fit in one list")
+    val n = total.toInt
+    val query = new Array[Int](n); val node = new Array[Int](n); val cond = new Array[Boolean](n)
+    val color = Array.fill(3)(new Array[Long](n))
+    val flags = if (arith.hasFlags) Some(Array.fill(3)(new Array[Byte](n))) else None
+    var at = 0
+    var tsOps = 0L
+    for (b <- parts.indices) {
+      val p = parts(b)
+      tsOps += p.tsOps
+      System.arraycopy(p.query, 0, query, at, p.size); System.arraycopy(p.node, 0, node, at, p.size)
+      System.arraycopy(p.cond, 0, cond, at, p.size)
+      for (c <- 0 until 3) {
+        System.arraycopy(p.color(c), 0, color(c), at, p.size)
+        flags.foreach(f => System.arraycopy(p.flags(c), 0, f(c), at, p.size))
+      }
+      at += p.size
+      parts(b) = null
+    }
+    new ShaderOpList(query, node, color, flags, cond,
+      SearchStats(nq.toLong, tsOps, n.toLong, cond.count(identity).toLong, map.size, map.tree.levels))
+  }
+
+  /** The shader operations of queries from until until, in traversal order. cond is decided as
+    * in [[Worker]]: plain doubles settle the clear cases, [[ShadeArith.cond]] the others. */
+  private final class OpBlock(map: PhotonMap, queries: QuerySet, arith: ShadeArith, searcher: TreeSearcher,
+                              codec: FormatBits, from: Int, until: Int) {
+    var size = 0
+    var tsOps = 0L
+    var query = new Array[Int](256)
+    var node = new Array[Int](256)
+    var cond = new Array[Boolean](256)
+    var color: Array[Array[Long]] = Array.fill(3)(new Array[Long](256))
+    var flags: Array[Array[Byte]] = Array.fill(3)(new Array[Byte](256))
+
+    private def grow(need: Int): Unit = if (need > query.length) {
+      val cap = math.max(need, 2 * query.length)
+      query = java.util.Arrays.copyOf(query, cap); node = java.util.Arrays.copyOf(node, cap)
+      cond = java.util.Arrays.copyOf(cond, cap)
+      color = color.map(java.util.Arrays.copyOf(_, cap)); flags = flags.map(java.util.Arrays.copyOf(_, cap))
+    }
+
+    {
+      val out = new Array[Long](3)
+      val fl = new Array[Int](3)
+      val withFlags = arith.hasFlags
+      val h = map.h
+      val (lo, hi) = arith.condClearBounds(h)
+      for (q <- from until until) {
+        val x = queries.x(q); val y = queries.y(q); val z = queries.z(q)
+        searcher.search(x, y, z, map.hValue)
+        tsOps += searcher.tsCount
+        val n = searcher.soCount
+        grow(size + n)
+        val cr = queries.contribution(0)(q); val cg = queries.contribution(1)(q); val cb = queries.contribution(2)(q)
+        for (k <- 0 until n) {
+          val i = searcher.so(k)
+          query(size) = q; node(size) = i
+          if (withFlags) arith.shadeFlags(map.kernel(i), map.brdf(i), h, map.power(0)(i), map.power(1)(i), map.power(2)(i), cr, cg, cb, out, fl)
+          else arith.shade(map.kernel(i), map.brdf(i), h, map.power(0)(i), map.power(1)(i), map.power(2)(i), cr, cg, cb, out)
+          for (c <- 0 until 3) { color(c)(size) = out(c); flags(c)(size) = fl(c).toByte }
+          val ex = x - codec.toDouble(map.px(i)); val ey = y - codec.toDouble(map.py(i)); val ez = z - codec.toDouble(map.pz(i))
+          val e2 = ex * ex + ey * ey + ez * ez
+          val clearIn = e2 * (1 + 1e-12) + 1e-300 < lo
+          cond(size) =
+            if (clearIn || e2 * (1 - 1e-12) > hi) clearIn
+            else arith.cond(queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), h)
+          size += 1
+        }
       }
     }
-    val query = qi.result()
-    new ShaderOpList(query, ni.result(), col.map(_.result()), cd.result(),
-      SearchStats(queries.size.toLong, ts, query.length.toLong, passing, map.size, map.tree.levels))
   }
 }

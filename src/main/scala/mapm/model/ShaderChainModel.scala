@@ -55,9 +55,20 @@ final class ShaderChainModel(val format: FloatFormat, val g: Int) {
   /** One channel: the colour bits and flags (OVF = 1, UNF = 2, INV = 4). */
   def channel(f: Front, power: Long, contrib: Long): Result = {
     val special = specialFlags(f, power, contrib)
+    if (special >= 0) specialResult(special) else channel(f, power, mul2(f, power), contrib)
+  }
+
+  /** MUL2 of one channel, Q' × power: the part of [[channel]] that depends on the photon alone
+    * (null when the operation's front is a special case, which never reads it). */
+  def mul2(f: Front, power: Long): DigitString =
+    if (f.special != 0) null else OnlineArith.mul(f.qn, sig(power), n, digits)
+
+  /** [[channel]] with MUL2's product `p2 = mul2(f, power)` already known. */
+  def channel(f: Front, power: Long, p2: DigitString, contrib: Long): Result = {
+    val special = specialFlags(f, power, contrib)
     if (special >= 0) specialResult(special)
     else {
-      val p3 = OnlineArith.mul(OnlineArith.mul(f.qn, sig(power), n, digits), sig(contrib), n, digits)
+      val p3 = OnlineArith.mul(p2, sig(contrib), n, digits)
       pack(f, power, contrib, p3, shiftOf(p3))
     }
   }

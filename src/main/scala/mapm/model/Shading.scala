@@ -7,9 +7,9 @@ import mapm.MapmError
   *  - cond: |q - p|^2 - h^2 < 0, whether photon p really lies within h of query q;
   *  - color: ((kernel * BRDF) / h) * power_c * contribution_c, for one colour channel c.
   *
-  * Implementations: [[RoundedShadeArith]] (every operation rounded to the format), and later the
-  * bit-accurate model of the online-arithmetic SOA, which only needs to implement `color`
-  * (and a bit-exact soft-float `cond`) to plug into [[Render]].
+  * Implementations: [[RoundedShadeArith]] (every operation rounded to the format; the float64
+  * reference path) and [[HardwareShadeArith]] (the SOA bit for bit: the online colour chain
+  * [[ShaderChainModel]] and the correctly rounded [[CondModel]]).
   */
 trait ShadeArith {
   def format: FloatFormat
@@ -29,6 +29,13 @@ trait ShadeArith {
     * cases with plain double arithmetic and calls [[cond]] only in between. The default promises
     * nothing, so every shader operation goes through [[cond]]. */
   def condClearBounds(h: Long): (Double, Double) = (Double.NegativeInfinity, Double.PositiveInfinity)
+  /** Whether [[shadeFlags]] models the SOA's per-channel flags. */
+  def hasFlags: Boolean = false
+  /** [[shade]], and the SOA's flags of each channel (OVF 1, UNF 2, INV 4) into flags(0..2). Only
+    * for an arithmetic with [[hasFlags]]; the others have no flags to report and throw. */
+  def shadeFlags(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                 out: Array[Long], flags: Array[Int]): Unit =
+    throw new UnsupportedOperationException(s"${getClass.getSimpleName} does not model the SOA's flags")
 }
 
 object ShadeArith {
@@ -36,6 +43,8 @@ object ShadeArith {
   def rounded(format: FloatFormat): ShadeArith = new RoundedShadeArith(format)
   /** The float64 reference path: the same, in binary64 (native double arithmetic). */
   def float64: ShadeArith = new RoundedShadeArith(FloatFormat.fp64)
+  /** The SOA's arithmetic bit for bit, with `g` guard digits in the online colour chain. */
+  def hardware(format: FloatFormat, g: Int): ShadeArith = new HardwareShadeArith(format, g)
 }
 
 object RoundedShadeArith {

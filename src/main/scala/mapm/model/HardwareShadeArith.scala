@@ -1,0 +1,98 @@
+package mapm.model
+
+/** The shader arithmetic of the hardware SOA (`mapm.shader.SOA`), bit for bit:
+  *  - color / shade: the online colour chain [[ShaderChainModel]] with `g` guard digits
+  *    (truncated result, the SOA's special cases and flags, see docs/soa.md);
+  *  - cond: [[CondModel]], the correctly rounded sequence of the conventional units
+  *    (`mapm.shader.CondCheck`).
+  *
+  * The part of the chain shared by the three channels (MUL1, the divider, QN) depends on kernel,
+  * BRDF and h alone, which are the same for every photon of a [[PhotonMap]] (a constant disc
+  * kernel, a Lambertian BRDF, one h; see [[Shading]]): the last one computed is kept and reused
+  * while its inputs repeat. With it, MUL2 (Q' × power) depends on the photon's power alone; its
+  * products are kept per power value (up to [[HardwareShadeArith.Mul2Entries]] of them), so a
+  * photon met by many queries costs one MUL3 per channel. Thread-safe: the cache is one record
+  * behind a volatile field with a concurrent map (a thread that misses recomputes the same value).
+  *
+  * [[condClearBounds]]: CondModel rounds the same five operations to nearest with flush to zero
+  * as [[RoundedShadeArith]] does (each within a factor 1 -/+ u, flushed terms below 5 smallest
+  * normals, inputs with exponent field 0 read as zero, exactly as [[FloatFormat.decode]] reads
+  * them), so the same bounds hold: d2 < lo surely passes, d2 > hi surely fails.
+  */
+final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends ShadeArith {
+  import HardwareShadeArith.Cached
+
+  /** The colour chain's model. */
+  val chain: ShaderChainModel = new ShaderChainModel(format, g)
+
+  @volatile private var cached: Cached = new Cached(0L, 0L, 0L, chain.front(0L, 0L, 0L))
+
+  private val u = math.pow(2, -format.manWidth - 1)
+  private val condHi = math.pow(1 + u, 6) * (1 + 1e-12)
+  private val condLo = math.pow(1 - u, 6) * (1 - 1e-12)
+  private val condAbs = 8 * format.minNormal
+
+  /** The cache record for (kernel, BRDF, h): the shared part of the chain and its MUL2 products. */
+  private def lookup(kernel: Long, brdf: Long, h: Long): Cached = {
+    val c = cached
+    if (c.kernel == kernel && c.brdf == brdf && c.h == h) c
+    else {
+      val fresh = new Cached(kernel, brdf, h, chain.front(kernel, brdf, h))
+      cached = fresh
+      fresh
+    }
+  }
+
+  /** The shared part of the chain for (kernel, BRDF, h), from the cache when it repeats. */
+  def front(kernel: Long, brdf: Long, h: Long): ShaderChainModel.Front = lookup(kernel, brdf, h).front
+
+  /** One channel through the cached front and MUL2 product. */
+  private def channel(c: Cached, power: Long, contrib: Long): ShaderChainModel.Result = {
+    var p2 = c.mul2.get(power)
+    if (p2 == null) {
+      p2 = chain.mul2(c.front, power)
+      if (p2 != null && c.mul2.size < HardwareShadeArith.Mul2Entries) c.mul2.put(power, p2)
+    }
+    chain.channel(c.front, power, p2, contrib)
+  }
+
+  def cond(qx: Long, qy: Long, qz: Long, px: Long, py: Long, pz: Long, h: Long): Boolean =
+    CondModel.cond(format, qx, qy, qz, px, py, pz, h)
+
+  override def condClearBounds(h: Long): (Double, Double) = {
+    val hh = SoftFloat.mul(format, h, h)
+    if (format.expField(hh) == format.expMax) super.condClearBounds(h)
+    else {
+      val h2 = format.decode(hh)
+      ((h2 - condAbs) / condHi, (h2 + condAbs) / condLo)
+    }
+  }
+
+  def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Long =
+    channel(lookup(kernel, brdf, h), power, contrib).bits
+
+  override def shade(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                     out: Array[Long]): Unit = {
+    val f = lookup(kernel, brdf, h)
+    out(0) = channel(f, pr, cr).bits; out(1) = channel(f, pg, cg).bits; out(2) = channel(f, pb, cb).bits
+  }
+
+  override def hasFlags: Boolean = true
+
+  override def shadeFlags(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                          out: Array[Long], flags: Array[Int]): Unit = {
+    val f = lookup(kernel, brdf, h)
+    val r = channel(f, pr, cr); out(0) = r.bits; flags(0) = r.flags
+    val gr = channel(f, pg, cg); out(1) = gr.bits; flags(1) = gr.flags
+    val b = channel(f, pb, cb); out(2) = b.bits; flags(2) = b.flags
+  }
+}
+
+object HardwareShadeArith {
+  /** The most MUL2 products kept per (kernel, BRDF, h). */
+  val Mul2Entries = 1 << 16
+
+  private final class Cached(val kernel: Long, val brdf: Long, val h: Long, val front: ShaderChainModel.Front) {
+    val mul2 = new java.util.concurrent.ConcurrentHashMap[java.lang.Long, DigitString]()
+  }
+}
