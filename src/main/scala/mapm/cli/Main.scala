@@ -22,6 +22,7 @@ trait Command {
 object Main {
   val commands: Seq[Command] = Seq(
     RenderCommand,
+    SweepCommand,
     ModelCommand,
     FormatCommand,
     KdtreeCommand,

@@ -1,0 +1,82 @@
+package mapm.cli
+
+import java.nio.file.{Files, Path, Paths}
+
+import mapm.MapmError
+import mapm.memory.MemoryImage
+import mapm.model._
+import mapm.sim.{ExpectedSo, Harness, MapmRtl}
+import mapm.top.MapmParams
+
+/** The RTL render shared by `render` and `sweep`: scene -> model ([[Frame]]) -> memory image and
+  * expected SOs (the model in the hardware's arithmetic) -> emitted Verilog (cached) -> Verilator
+  * harness (cached) -> run -> comparison with the model. */
+object RtlRun {
+  /** A frame ready for the hardware: its files in `work` and the model's results. */
+  final case class Prepared(name: String, config: SceneConfig, frame: Frame, g: Int, image: Path, expected: Path,
+                            model: ExpectedSo.Result, work: Path, times: StageTimes)
+
+  /** One configuration's run: the harness outcome, whether the frame equals the model's bit for
+    * bit (and the first differing value), and seconds per stage. */
+  final case class ConfigRun(p: MapmParams, outcome: Harness.Outcome, frameEqual: Boolean, frameDiff: Option[String],
+                             tsOpsEqual: Option[Boolean], times: Seq[(String, Double)]) {
+    def passed: Boolean = outcome.passed && frameEqual && !tsOpsEqual.contains(false)
+    def stat(key: String): Option[Double] = outcome.stats.flatMap(_.obj.get(key)).flatMap(_.numOpt)
+    /** Why it failed, in one line. */
+    def failure: String =
+      if (!outcome.passed) outcome.verdict
+      else if (!frameEqual) s"the RTL frame differs from the model frame: ${frameDiff.getOrElse("")}"
+      else s"TS-op count ${stat("tsOps").map(_.toLong).getOrElse(0L)} differs from the model's"
+  }
+
+  private def secs(t0: Long): Double = (System.nanoTime() - t0) / 1e9
+
+  /** Runs the model side once for `scene` in `format` with `g` guard digits; files go to `outDir/<scene>-rtl/`. */
+  def prepare(scene: String, format: Option[FloatFormat], g: Int, outDir: String, threads: Int): Prepared = {
+    MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
+    val config = ModelRun.loadScene(scene)
+    val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
+    val frame = Frame.prepare(config, fmt, threads)
+    val name = ModelRun.sceneName(Paths.get(scene))
+    val work = Paths.get(outDir).resolve(s"$name-rtl")
+    Files.createDirectories(work)
+    val t0 = System.nanoTime()
+    val image = work.resolve("image.bin")
+    MemoryImage.from(frame.map, frame.querySet).write(image)
+    val t1 = System.nanoTime()
+    val expected = work.resolve("expected.bin")
+    val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"))
+    Prepared(name, config, frame, g, image, expected, model, work,
+      frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)))
+  }
+
+  /** Emits, builds and runs configuration `p` on a prepared frame; the harness writes into `dir`. */
+  def runConfig(prep: Prepared, p: MapmParams, opts: Harness.RunOptions, dir: Path, log: String => Unit): ConfigRun = {
+    MapmError.check(p.numbers.format == prep.frame.format && p.numbers.guardDigits == prep.g,
+      s"configuration ${p.name} does not match the prepared frame (${prep.frame.format}, g = ${prep.g})")
+    val t0 = System.nanoTime()
+    val (sv, top) = MapmRtl.emit(p, log)
+    val t1 = System.nanoTime()
+    val exe = Harness.build(sv, top, trace = opts.wave.isDefined, log)
+    val t2 = System.nanoTime()
+    val outcome = Harness.run(exe, prep.image, prep.expected, dir, opts, Some(s"RTL ${p.counts.label}"))
+    val times = Seq("emit" -> (t1 - t0) / 1e9, "verilator build" -> (t2 - t1) / 1e9, "simulation" -> secs(t2))
+    val model = prep.model.frame
+    val diff = outcome.frame match {
+      case None => Some("the harness wrote no frame")
+      case Some(f) if f.length != model.length => Some(s"${f.length} values against the model's ${model.length}")
+      case Some(f) =>
+        model.indices.find(i => java.lang.Double.doubleToRawLongBits(f(i)) != java.lang.Double.doubleToRawLongBits(model(i)))
+          .map(i => s"first at pixel ${i / 3} channel ${i % 3}: RTL ${f(i)}, model ${model(i)}")
+    }
+    val tsOps = outcome.stats.flatMap(_.obj.get("tsOps")).flatMap(_.numOpt).map(_.toLong == prep.model.tsOps)
+    ConfigRun(p, outcome, diff.isEmpty, diff, tsOps, times)
+  }
+
+  /** The float64 reference of the indirect light (for the PSNR). */
+  def reference(prep: Prepared, threads: Int): Array[Double] = {
+    val f = prep.frame
+    val refMap = PhotonMap.fromTree(f.map.tree, f.photons, FloatFormat.fp64, f.h)
+    Render.run(refMap, QuerySet.build(f.queries, FloatFormat.fp64), f.pixels, ShadeArith.float64, threads).rgb
+  }
+}

@@ -1,0 +1,113 @@
+package mapm.sim
+
+import java.nio.{ByteBuffer, ByteOrder}
+import java.nio.file.{Files, Path}
+
+import mapm.MapmError
+import mapm.model._
+
+/** The shader operations the MAPM must report for a frame, computed by the model in the
+  * hardware's arithmetic, and the model frame accumulated from them exactly ([[ExactSum]]).
+  *
+  * Per query: the tree search ([[TreeSearcher]]) gives the photons; each SO's colour bits and
+  * flags come from [[ShaderChainModel]] (the SOA's online chain, g guard digits) and its cond from
+  * [[CondModel]] (the SOA's cond check), whatever cond is, as the hardware reports every SO.
+  *
+  * File (read by tools/harness/expected.h), little-endian: a 32-byte header (magic `MAPMSO01`,
+  * u32 version 1, u8 exponent width, u8 mantissa width, u16 0, u64 record count, u32 image width,
+  * u32 image height), then one 24-byte record per SO sorted by (query, photon): u32 query, u32
+  * photon, u32 colour r, g, b, u16 flags r | g << 3 | b << 6 | cond << 9, u16 0.
+  */
+object ExpectedSo {
+  val Magic: Array[Byte] = "MAPMSO01".getBytes("US-ASCII")
+  val HeaderBytes = 32
+  val RecordBytes = 24
+
+  /** @param count   SOs (records written)
+    * @param tsOps   tree-search operations of the model
+    * @param passing SOs whose cond holds
+    * @param frame   the model frame: per pixel and channel, the exact sum of the passing colours,
+    *                rounded once (`frame(3 p + c)`) */
+  final case class Result(count: Long, tsOps: Long, passing: Long, frame: Array[Double])
+
+  /** Computes every SO of `queries` against `map` with `g` guard digits on `threads` threads,
+    * writes them to `file` for a `width` x `height` image and returns the counts and model frame. */
+  def write(map: PhotonMap, queries: QuerySet, g: Int, width: Int, height: Int, file: Path, threads: Int,
+            progress: Option[String] = None): Result = {
+    MapmError.check(map.format == queries.format, s"expected SOs: photon map (${map.format}) and queries (${queries.format}) differ in format")
+    val fmt = map.format
+    MapmError.check(fmt.width <= 32, s"expected SOs: format $fmt is wider than the 32-bit records")
+    val chain = new ShaderChainModel(fmt, g)
+    val nq = queries.size
+    val chunk = 512
+    val chunks = (nq + chunk - 1) / chunk
+    val buffers = new Array[Array[Byte]](chunks)
+    val tsOps = new java.util.concurrent.atomic.AtomicLong(0)
+    val bar = progress.map(new Progress(_, nq.toLong))
+    val searchers = ThreadLocal.withInitial(() => new TreeSearcher(map.search))
+    Parallel.forRange(chunks, threads, chunk = 1) { c =>
+      val (from, until) = (c * chunk, math.min(nq, (c + 1) * chunk))
+      buffers(c) = chunkRecords(map, queries, chain, searchers.get, from, until, tsOps)
+      bar.foreach(_.advance((until - from).toLong))
+    }
+    bar.foreach(_.finish())
+    val count = buffers.map(_.length.toLong / RecordBytes).sum
+    val sum = new ExactSum(fmt, 3 * width * height)
+    var passing = 0L
+    val header = ByteBuffer.allocate(HeaderBytes).order(ByteOrder.LITTLE_ENDIAN)
+    header.put(Magic).putInt(1).put(fmt.expWidth.toByte).put(fmt.manWidth.toByte).putShort(0)
+      .putLong(count).putInt(width).putInt(height)
+    try {
+      val out = new java.io.BufferedOutputStream(Files.newOutputStream(file), 1 << 20)
+      try {
+        out.write(header.array())
+        for (b <- buffers) {
+          out.write(b)
+          val r = ByteBuffer.wrap(b).order(ByteOrder.LITTLE_ENDIAN)
+          var at = 0
+          while (at < b.length) {
+            if ((r.getShort(at + 20) & 0x200) != 0) {
+              passing += 1
+              val p = queries.pixel(r.getInt(at))
+              MapmError.check(p >= 0 && p < width * height, s"query ${r.getInt(at)}: pixel $p outside the ${width}x$height image")
+              for (ch <- 0 until 3) sum.add(3 * p + ch, r.getInt(at + 8 + 4 * ch).toLong & 0xffffffffL)
+            }
+            at += RecordBytes
+          }
+        }
+      } finally out.close()
+    } catch { case e: java.io.IOException => MapmError.fail(s"cannot write expected SOs $file: ${e.getMessage}") }
+    Result(count, tsOps.get, passing, Array.tabulate(3 * width * height)(sum.toDouble))
+  }
+
+  /** The records of queries [from, until), sorted by (query, photon). */
+  private def chunkRecords(map: PhotonMap, queries: QuerySet, chain: ShaderChainModel, searcher: TreeSearcher,
+                           from: Int, until: Int, tsOps: java.util.concurrent.atomic.AtomicLong): Array[Byte] = {
+    val fmt = map.format
+    val buf = new java.io.ByteArrayOutputStream()
+    val rec = ByteBuffer.allocate(RecordBytes).order(ByteOrder.LITTLE_ENDIAN)
+    var ts = 0L
+    for (q <- from until until) {
+      searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
+      ts += searcher.tsCount
+      val photons = java.util.Arrays.copyOf(searcher.so, searcher.soCount)
+      java.util.Arrays.sort(photons)
+      for (i <- photons) {
+        val front = chain.front(map.kernel(i), map.brdf(i), map.h)
+        rec.clear()
+        rec.putInt(q).putInt(i)
+        var flags = 0
+        for (c <- 0 until 3) {
+          val r = chain.channel(front, map.power(c)(i), queries.contribution(c)(q))
+          rec.putInt(r.bits.toInt)
+          flags |= r.flags << (3 * c)
+        }
+        if (CondModel.cond(fmt, queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h)) flags |= 0x200
+        rec.putShort(flags.toShort).putShort(0)
+        buf.write(rec.array())
+      }
+    }
+    tsOps.addAndGet(ts)
+    buf.toByteArray
+  }
+}

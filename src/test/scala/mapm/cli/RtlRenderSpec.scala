@@ -1,0 +1,42 @@
+package mapm.cli
+
+import java.nio.file.{Files, Path, Paths}
+
+import mapm.model.TestScenes
+import org.scalatest.funsuite.AnyFunSuite
+
+/** End to end: `render` of a tiny Cornell-box frame through the emitted whole-MAPM RTL in
+  * Verilator at 1/1/1 and 2/1/2: every SO checked against the model bit for bit (in the harness),
+  * the frame bit-equal to the model frame, the TS-op count equal to the model's. */
+class RtlRenderSpec extends AnyFunSuite {
+  private def haveVerilator: Boolean =
+    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
+  private def haveTop: Boolean = scala.util.Try(Class.forName("mapm.top.Mapm")).isSuccess
+
+  private lazy val scene: Path = {
+    val dir = Paths.get("target/rtl-render-test")
+    Files.createDirectories(dir)
+    val obj = TestScenes.cornellObj.toAbsolutePath.toString.replace("\\", "\\\\")
+    val text =
+      s"""{ "obj": "$obj",
+         |  "camera": { "position": [278, 273, -530], "direction": [0, 0, 1], "up": [0, 1, 0], "fov": 39.3 },
+         |  "lights": [ { "type": "point", "position": [1, 25, 1], "power": [10000000, 10000000, 10000000] } ],
+         |  "width": 8, "height": 6, "finalGatherRays": 4, "photons": 200, "maxBounces": 3, "h": { "auto": 20 }, "seed": 3 }""".stripMargin
+    Files.write(dir.resolve("tiny.json"), text.getBytes("UTF-8"))
+  }
+
+  for ((t, s, a, seed) <- Seq((1, 1, 1, 1L), (2, 1, 2, 7L))) test(s"render through the RTL at $t/$s/$a") {
+    assume(haveVerilator, "verilator is not on PATH: the RTL render test needs it")
+    assume(haveTop, "mapm.top.Mapm is not in this build: the RTL render test needs the whole-MAPM top")
+    val out = Paths.get(s"target/rtl-render-test/out-$t-$s-$a")
+    assert(RenderCommand.render(scene = scene.toString, tsm = t, som = s, soa = a, seed = seed, maxCycles = 2000000,
+      out = out.toString, threads = 2) == 0)
+    val stats = ujson.read(Files.readAllBytes(out.resolve("tiny-rtl-stats.json")))
+    assert(stats("result").str == "PASS")
+    assert(stats("frameEqualsModel").bool)
+    assert(stats("soIssued").num == stats("modelShaderOps").num && stats("soIssued").num > 0)
+    assert(stats("soPassingCond").num == stats("modelShaderOpsPassingCond").num)
+    assert(stats("tsOps").num == stats("modelTsOps").num)
+    assert(Files.isRegularFile(out.resolve("tiny-rtl.png")) && Files.isRegularFile(out.resolve("tiny-rtl.pfm")))
+  }
+}

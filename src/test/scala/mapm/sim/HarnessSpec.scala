@@ -1,0 +1,160 @@
+package mapm.sim
+
+import java.nio.{ByteBuffer, ByteOrder}
+import java.nio.file.{Files, Path, Paths}
+
+import mapm.memory.MemoryImage
+import mapm.model.FloatFormat
+import mapm.top.MapmParams
+import org.scalatest.funsuite.AnyFunSuite
+import java.math.{BigDecimal => JBig}
+
+/** The exact frame accumulation, and the Verilator harness (tools/harness) on a stand-in top
+  * ([[HarnessStub]]) whose results are known: memory replies, per-SO checks and their failure
+  * messages, the frame and the stats. */
+class HarnessSpec extends AnyFunSuite {
+  /** 2^k exactly (java.math.BigDecimal: its add and multiply without a MathContext are exact). */
+  private def pow2(k: Int): JBig =
+    if (k >= 0) new JBig(java.math.BigInteger.ONE.shiftLeft(k)) else new JBig(java.math.BigInteger.valueOf(5).pow(-k), -k)
+
+  /** The exact value of format bits (exponent field 0 is zero: the formats flush subnormals). */
+  private def exactValue(f: FloatFormat, bits: Long): JBig = {
+    val e = f.expField(bits); val m = f.manField(bits)
+    val v = if (e == 0) JBig.ZERO else new JBig(java.math.BigInteger.valueOf((1L << f.manWidth) | m)).multiply(pow2(e - f.bias - f.manWidth))
+    if (f.sign(bits) == 1) v.negate else v
+  }
+
+  /** Random finite bits of `f` over its whole exponent range, some zero, some negative. */
+  private def randomBits(f: FloatFormat, rnd: scala.util.Random, negative: Boolean): Long = {
+    val e = if (rnd.nextInt(10) == 0) 0 else 1 + rnd.nextInt(f.expMax - 1)
+    val m = rnd.nextLong() & ((1L << f.manWidth) - 1)
+    val s = if (negative && rnd.nextBoolean()) 1L else 0L
+    (s << (f.expWidth + f.manWidth)) | (e.toLong << f.manWidth) | m
+  }
+
+  test("ExactSum: exact in any order, rounded once like BigDecimal") {
+    for ((f, seed) <- Seq(FloatFormat.fp32, FloatFormat.fp16, FloatFormat.bf16, FloatFormat(5, 6), FloatFormat.fp24).zipWithIndex) {
+      val rnd = new scala.util.Random(seed)
+      for (trial <- 0 until 40) {
+        val n = 1 + rnd.nextInt(300)
+        // narrow exponent windows make cancellation and rounding ties likely; wide ones test range
+        val vals = Array.fill(n)(randomBits(f, rnd, negative = trial % 2 == 1))
+        val ref = vals.map(exactValue(f, _)).foldLeft(JBig.ZERO)(_ add _)
+        val orders = Seq(vals, vals.reverse, rnd.shuffle(vals.toSeq).toArray)
+        val sums = orders.map { o => val s = new ExactSum(f, 2); o.foreach(s.add(1, _)); s }
+        for (s <- sums) {
+          assert(new JBig(s.exact(1).get.bigInteger).multiply(pow2(s.unitExp)).compareTo(ref) == 0, s"$f trial $trial")
+          assert(s.toDouble(0) == 0.0)
+        }
+        val d = sums.map(_.toDouble(1))
+        assert(d.forall(x => java.lang.Double.doubleToRawLongBits(x) == java.lang.Double.doubleToRawLongBits(d.head)))
+        assert(d.head == ref.doubleValue, s"$f trial $trial: ${d.head} vs ${ref.doubleValue}")
+      }
+    }
+  }
+
+  test("ExactSum: ties round to even, infinities and NaN make NaN") {
+    val f = FloatFormat.fp32
+    // 1 + 2^-53 is a tie between 1 and 1 + 2^-52: rounds to 1; 1 + 3 * 2^-53 rounds up to 1 + 2^-51
+    val s = new ExactSum(f, 3)
+    s.add(0, f.encode(1.0)); s.add(0, f.encode(math.pow(2, -53)))
+    assert(s.toDouble(0) == 1.0)
+    s.add(1, f.encode(1.0)); s.add(1, f.encode(3 * math.pow(2, -53)))
+    assert(s.toDouble(1) == 1.0 + math.pow(2, -51))
+    s.add(2, f.encode(1.0)); s.add(2, 0x7f800000L)
+    assert(s.toDouble(2).isNaN)
+  }
+
+  // ---- the harness on the stand-in ----
+
+  private lazy val verilatorPresent: Boolean =
+    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
+
+  private val params = MapmParams.table48(1, 1, 2)
+  private val (width, height) = (8, 6)
+  private val nq = 300
+
+  private lazy val exe: Path = {
+    val dir = Harness.root.resolve("target/harness-test/stub")
+    Files.createDirectories(dir)
+    Files.list(dir).forEach(p => Files.delete(p))
+    Emit.toFile(new HarnessStub(params), dir, s"HarnessStub_${params.name}.sv")
+    Harness.build(dir, s"HarnessStub_${params.name}")
+  }
+
+  /** An image of `nq` queries with random contributions (fp32, some negative), pixels and a
+    * shuffled stream; no photons (the stub reads only query records). */
+  private lazy val image: MemoryImage = {
+    val f = FloatFormat.fp32
+    val rnd = new scala.util.Random(7)
+    def bits(): Long = randomBits(f, rnd, negative = true) & ~(0xffL << 23) | ((100L + rnd.nextInt(56)) << 23)
+    new MemoryImage(f, false, f.encode(0.5), Array.empty, Array.empty, Array.fill(8)(Array.empty[Long]),
+      Array.fill(3)(Array.fill(nq)(bits())), Array.fill(nq)(rnd.nextInt(width * height)),
+      Array.fill(3)(Array.fill(nq)(f.encode(rnd.nextDouble()))), rnd.shuffle((0 until nq).toVector).toArray)
+  }
+
+  /** The stub's SOs: (q, photon, colour bits, cond) per query. */
+  private def stubRecords: Seq[(Int, Int, Seq[Long], Boolean)] =
+    (0 until nq).map(q => (q, q % 5, (0 until 3).map(c => image.contribution(c)(q)), q % 3 != 0))
+
+  private def writeExpected(path: Path, recs: Seq[(Int, Int, Seq[Long], Boolean)]): Path = {
+    val b = ByteBuffer.allocate(32 + 24 * recs.size).order(ByteOrder.LITTLE_ENDIAN)
+    b.put("MAPMSO01".getBytes("US-ASCII")).putInt(1).put(8.toByte).put(23.toByte).putShort(0).putLong(recs.size).putInt(width).putInt(height)
+    for ((q, ph, col, cond) <- recs.sortBy(r => (r._1, r._2))) {
+      b.putInt(q).putInt(ph); col.foreach(c => b.putInt(c.toInt)); b.putShort((if (cond) 0x200 else 0).toShort).putShort(0)
+    }
+    Files.write(path, b.array())
+  }
+
+  private def run(name: String, recs: Seq[(Int, Int, Seq[Long], Boolean)], opts: Harness.RunOptions): Harness.Outcome = {
+    assume(verilatorPresent, "verilator is not on PATH: the harness tests need it")
+    val dir = Harness.root.resolve(s"target/harness-test/$name")
+    Files.createDirectories(dir)
+    val img = dir.resolve("image.bin"); image.write(img)
+    Harness.run(exe, img, writeExpected(dir.resolve("expected.bin"), recs), dir, opts)
+  }
+
+  test("harness: every SO checked, exact frame, stats (stand-in top, 100-cycle memory)") {
+    val o = run("pass", stubRecords, Harness.RunOptions(seed = 3))
+    assert(o.passed, o.verdict)
+    assert(o.verdict == "PASS seed=3")
+    val ref = Array.fill(3 * width * height)(JBig.ZERO)
+    for ((q, _, col, cond) <- stubRecords if cond; c <- 0 until 3)
+      ref(3 * image.pixel(q) + c) = ref(3 * image.pixel(q) + c).add(exactValue(FloatFormat.fp32, col(c)))
+    val frame = o.frame.get
+    assert(frame.length == ref.length)
+    for (i <- ref.indices) assert(frame(i) == ref(i).doubleValue, s"frame value $i")
+    val s = o.stats.get
+    assert(s("soIssued").num == nq && s("soPassingCond").num == stubRecords.count(_._4))
+    assert(s("queries").num == nq && s("queriesCompleted").num == nq)
+    assert(s("bytesFetched").num == 32 * nq && s("memoryRequests").num == nq)
+    assert(s("cycles").num > 100 * nq, "one query at a time waits for the 100-cycle memory")
+    assert(s("counters")("queries").num == nq && s("tsOps").num == nq)
+    assert(s("caches")("soq")("misses").num == nq && s("caches")("soq")("hitRate").num == 0)
+    assert(s("stallCycles")("stallQuery").num > 0)
+    assert(math.abs(s("gbPerSecond").num - s("bytesPerCycle").num * 1.5) < 1e-9)
+  }
+
+  test("harness: latency and bandwidth shape the run") {
+    val fast = run("fast", stubRecords, Harness.RunOptions(latency = 0, bandwidth = 64))
+    val slow = run("slow", stubRecords, Harness.RunOptions(latency = 0, bandwidth = 2))
+    assert(fast.passed && slow.passed, fast.verdict + slow.verdict)
+    // 32 bytes per query at 2 bytes per cycle: at least 16 cycles per query
+    assert(slow.stats.get("cycles").num >= 16 * nq)
+    assert(fast.stats.get("cycles").num < 8 * nq)
+  }
+
+  test("harness: a wrong colour, a missing, an unexpected SO and the watchdog each FAIL with a clear reason") {
+    val recs = stubRecords
+    val wrong = recs.updated(17, recs(17).copy(_3 = recs(17)._3.updated(1, recs(17)._3(1) ^ 1)))
+    val o1 = run("wrong", wrong, Harness.RunOptions(seed = 5))
+    assert(!o1.passed && o1.verdict.startsWith("FAIL seed=5: mismatch SO (q=17, photon=2)"), o1.verdict)
+    assert(o1.verdict.contains("expected colour"), o1.verdict)
+    val o2 = run("missing", recs :+ ((17, 4, recs(17)._3, true)), Harness.RunOptions())
+    assert(!o2.passed && o2.verdict.contains("1 expected SOs never came out (first: q=17, photon=4)"), o2.verdict)
+    val o3 = run("unexpected", recs.filterNot(_._1 == 40), Harness.RunOptions())
+    assert(!o3.passed && o3.verdict.contains("unexpected SO (q=40, photon=0)"), o3.verdict)
+    val o4 = run("watchdog", recs, Harness.RunOptions(maxCycles = 500))
+    assert(!o4.passed && o4.verdict.contains("watchdog: --max-cycles 500 reached"), o4.verdict)
+  }
+}

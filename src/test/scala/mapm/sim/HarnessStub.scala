@@ -1,0 +1,72 @@
+package mapm.sim
+
+import chisel3._
+import chisel3.util._
+import mapm.memory.{MemPort, MemPortParams}
+import mapm.top.{MapmConfig, MapmParams, QueryIn, SoResult}
+
+/** A stand-in with the whole MAPM's top IO (docs/mapm.md) for testing the Verilator harness on its
+  * own: for each query it reads the query's 32-byte record from memory (two 16-byte beats), then
+  * reports one SO on port q mod ports: photon q mod 5, colour = the record's contribution bits,
+  * flags 0, cond = (q mod 3 != 0). One query at a time. */
+class HarnessStub(p: MapmParams) extends Module {
+  override def desiredName = s"HarnessStub_${p.name}"
+  private val ports = p.counts.som * p.counts.soaPerSom
+  private val w = p.numbers.format.width
+  val io = IO(new Bundle {
+    val cfg = Input(new MapmConfig(p))
+    val query = Flipped(Decoupled(new QueryIn(p)))
+    val mem = new MemPort(MemPortParams(p.memory.addressBits, p.memory.dataBytes, 3, 4))
+    val out = Output(Vec(ports, Valid(new SoResult(p))))
+    val done = Output(Bool())
+    val error = Output(Bool())
+    val counters = Output(new Bundle {
+      val cycles = UInt(64.W)
+      val queries = UInt(64.W)
+      val tsOps = UInt(64.W)
+      val stallQuery = UInt(64.W)
+      val soq_hits = UInt(64.W)
+      val soq_misses = UInt(64.W)
+    })
+  })
+  private val sIdle :: sReq :: sResp :: sOut :: Nil = Enum(4)
+  private val state = RegInit(sIdle)
+  private val q = Reg(UInt(p.indices.queryBits.W))
+  private val beat = RegInit(0.U(1.W))
+  private val contrib = Reg(Vec(3, UInt(w.W)))
+  private val cycles, queries, waits = RegInit(0.U(64.W))
+  cycles := cycles + 1.U
+
+  io.query.ready := state === sIdle
+  when(io.query.fire) { q := io.query.bits.q; state := sReq; queries := queries + 1.U }
+  io.mem.req.valid := state === sReq
+  io.mem.req.bits.addr := io.cfg.queryBase + (q << 5)
+  io.mem.req.bits.id := 5.U
+  io.mem.req.bits.len := 1.U
+  when(io.mem.req.fire) { state := sResp; beat := 0.U }
+  when(state === sResp) { waits := waits + 1.U }
+  io.mem.resp.ready := state === sResp
+  when(io.mem.resp.fire) {
+    when(beat === 0.U) { for (c <- 0 until 3) contrib(c) := io.mem.resp.bits.data(32 * c + w - 1, 32 * c) }
+    beat := beat + 1.U
+    when(io.mem.resp.bits.last) { state := sOut }
+  }
+  for (k <- 0 until ports) {
+    val o = io.out(k)
+    o.valid := state === sOut && (q % ports.U) === k.U
+    o.bits.colour := contrib
+    o.bits.flags := VecInit(Seq.fill(3)(0.U(3.W)))
+    o.bits.cond := (q % 3.U) =/= 0.U
+    o.bits.q := q
+    o.bits.photon := q % 5.U
+  }
+  when(state === sOut) { state := sIdle }
+  io.done := state === sIdle
+  io.error := io.mem.resp.fire && io.mem.resp.bits.id =/= 5.U
+  io.counters.cycles := cycles
+  io.counters.queries := queries
+  io.counters.tsOps := queries
+  io.counters.stallQuery := waits
+  io.counters.soq_hits := 0.U
+  io.counters.soq_misses := queries
+}

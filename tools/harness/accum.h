@@ -1,0 +1,97 @@
+// Exact, order-independent accumulation of float-format values (mapm Verilator harness).
+//
+// A value of format (ew, mw) with exponent field E >= 1 and fraction M is
+// (2^mw + M) * 2^(E - 1) units of 2^(1 - bias - mw): an integer. The accumulator keeps that
+// integer sum exactly in 32-bit limbs held in int64 (each add puts < 2^32 into two limbs, so
+// 2^30 adds fit before carries must be propagated). Exponent field 0 is zero (the formats flush
+// subnormals); all-ones (infinity, NaN) makes the sum NaN. The sum is rounded to a double once
+// (nearest, ties to even) by toDouble(). mapm.sim.ExactSum is the same algorithm in Scala, so
+// the harness frame and the model frame are bit-equal whatever the order of the additions.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+class ExactFormat {
+ public:
+  ExactFormat(int ew, int mw)
+      : ew_(ew), mw_(mw), bias_((1 << (ew - 1)) - 1),
+        limbs_(((1 << ew) + mw + 1) / 32 + 3) {}
+  int limbs() const { return limbs_; }
+  int expAllOnes() const { return (1 << ew_) - 1; }
+  int ew() const { return ew_; }
+  int mw() const { return mw_; }
+  // log2 of the unit the integer sum counts.
+  int unitExp() const { return 1 - bias_ - mw_; }
+
+ private:
+  int ew_, mw_, bias_, limbs_;
+};
+
+// A block of accumulators (e.g. 3 per pixel), all of one format, in one flat array.
+class ExactAccumulators {
+ public:
+  ExactAccumulators(const ExactFormat& f, size_t count)
+      : f_(f), n_(f.limbs()), limb_(count * f.limbs(), 0), adds_(count, 0), nan_(count, 0) {}
+
+  void add(size_t i, uint64_t bits) {
+    const int ew = f_.ew(), mw = f_.mw();
+    const uint64_t e = (bits >> mw) & ((1ull << ew) - 1);
+    const uint64_t m = bits & ((1ull << mw) - 1);
+    const bool neg = (bits >> (ew + mw)) & 1;
+    if (e == 0) return;
+    if (e == (uint64_t)f_.expAllOnes()) { nan_[i] = 1; return; }
+    const uint64_t sig = (1ull << mw) | m;  // < 2^31 for formats of at most 32 bits
+    const int shift = (int)(e - 1);
+    const uint64_t v = sig << (shift % 32);  // < 2^62
+    int64_t* l = &limb_[i * n_ + shift / 32];
+    const int64_t lo = (int64_t)(v & 0xffffffffu), hi = (int64_t)(v >> 32);
+    if (neg) { l[0] -= lo; l[1] -= hi; } else { l[0] += lo; l[1] += hi; }
+    if (++adds_[i] == (1u << 30)) { normalize(i); adds_[i] = 0; }
+  }
+
+  // The exact sum rounded once to the nearest double (ties to even).
+  double toDouble(size_t i) {
+    if (nan_[i]) return std::nan("");
+    normalize(i);
+    std::vector<int64_t> mag(limb_.begin() + i * n_, limb_.begin() + (i + 1) * n_);
+    bool neg = mag[n_ - 1] < 0;
+    if (neg) {  // two's complement negate over 32-bit limbs
+      int64_t carry = 1;
+      for (int k = 0; k < n_; k++) {
+        int64_t v = ((~mag[k]) & 0xffffffff) + carry;
+        mag[k] = v & 0xffffffff;
+        carry = v >> 32;
+      }
+    }
+    int top = -1;  // highest set bit
+    for (int k = n_ - 1; k >= 0 && top < 0; k--)
+      if (mag[k]) top = 32 * k + 63 - __builtin_clzll((uint64_t)mag[k]);
+    if (top < 0) return neg ? -0.0 : 0.0;
+    auto bit = [&](int b) -> uint64_t { return b < 0 ? 0 : ((uint64_t)mag[b / 32] >> (b % 32)) & 1; };
+    uint64_t mant = 0;
+    const int lowest = top - 52;  // bit position of the mantissa's LSB
+    for (int b = top; b >= lowest; b--) mant = (mant << 1) | bit(b);
+    bool round = bit(lowest - 1), sticky = false;
+    for (int b = lowest - 2; b >= 0 && !sticky; b--) sticky = bit(b);
+    if (round && (sticky || (mant & 1))) mant++;
+    double r = std::ldexp((double)mant, lowest + f_.unitExp());
+    return neg ? -r : r;
+  }
+
+ private:
+  void normalize(size_t i) {
+    int64_t* l = &limb_[i * n_];
+    for (int k = 0; k + 1 < n_; k++) {
+      int64_t c = l[k] >> 32;  // arithmetic shift: floor division by 2^32
+      l[k] -= c * (int64_t(1) << 32);
+      l[k + 1] += c;
+    }
+  }
+
+  ExactFormat f_;
+  int n_;
+  std::vector<int64_t> limb_;
+  std::vector<uint32_t> adds_;
+  std::vector<uint8_t> nan_;
+};

@@ -1,0 +1,100 @@
+// The DRAM the harness plays on the MAPM's memory port (docs/memory-port.md).
+//
+// A request taken in cycle t is ready at t + latency. Each cycle at most one beat leaves, chosen
+// at random (seeded) among the ready requests, so responses to different ids come back in any
+// order and their beats interleave; the beats of one request stay in order. Bandwidth is a token
+// bucket: `bytesPerCycle` credit per cycle, a beat of `dataBytes` needs that much credit.
+// Protocol checks (each a failure message): an address not aligned to the request's size, an id
+// reused while its request is still outstanding.
+#pragma once
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+class Dram {
+ public:
+  struct Request {
+    uint64_t addr, id;
+    uint32_t beats, sent;
+    uint64_t readyAt;
+  };
+
+  Dram(const std::vector<uint8_t>& image, int dataBytes, uint64_t latency, double bytesPerCycle, uint64_t seed)
+      : mem_(image), dataBytes_(dataBytes), latency_(latency), bandwidth_(bytesPerCycle), rng_(seed) {}
+
+  // Accepts a request in `cycle`; returns an error message or "".
+  std::string request(uint64_t cycle, uint64_t addr, uint64_t id, uint64_t len) {
+    const uint64_t bytes = (len + 1) * dataBytes_;
+    if (addr % bytes != 0)
+      return "memory protocol: address 0x" + hex(addr) + " not aligned to the request size " + std::to_string(bytes);
+    if (!ids_.insert(id).second)
+      return "memory protocol: id " + std::to_string(id) + " reused while its request is outstanding";
+    pending_.push_back({addr, id, (uint32_t)(len + 1), 0, cycle + latency_});
+    requests_++;
+    return "";
+  }
+
+  // Chooses the beat to present this cycle (call once per cycle before the clock edge).
+  // Returns false when none: no ready request or not enough bandwidth credit.
+  bool present(uint64_t cycle, uint8_t* data, uint64_t* id, bool* last) {
+    if (!haveBeat_) {
+      credit_ += bandwidth_;
+      const double cap = dataBytes_ + bandwidth_;
+      if (credit_ > cap) credit_ = cap;
+      if (credit_ < dataBytes_) return false;
+      ready_.clear();
+      for (size_t i = 0; i < pending_.size(); i++)
+        if (pending_[i].readyAt <= cycle) ready_.push_back(i);
+      if (ready_.empty()) return false;
+      chosen_ = ready_[std::uniform_int_distribution<size_t>(0, ready_.size() - 1)(rng_)];
+      haveBeat_ = true;
+    }
+    const Request& r = pending_[chosen_];
+    const uint64_t at = r.addr + (uint64_t)r.sent * dataBytes_;
+    for (int j = 0; j < dataBytes_; j++) data[j] = at + j < mem_.size() ? mem_[at + j] : 0;
+    *id = r.id;
+    *last = r.sent + 1 == r.beats;
+    return true;
+  }
+
+  // The presented beat was taken by the hardware.
+  void taken() {
+    Request& r = pending_[chosen_];
+    r.sent++;
+    bytes_ += dataBytes_;
+    credit_ -= dataBytes_;
+    if (r.sent == r.beats) {
+      ids_.erase(r.id);
+      pending_[chosen_] = pending_.back();
+      pending_.pop_back();
+    }
+    haveBeat_ = false;
+  }
+
+  size_t outstanding() const { return pending_.size(); }
+  uint64_t bytesServed() const { return bytes_; }
+  uint64_t requests() const { return requests_; }
+
+ private:
+  static std::string hex(uint64_t v) {
+    char b[32];
+    snprintf(b, sizeof b, "%llx", (unsigned long long)v);
+    return b;
+  }
+
+  const std::vector<uint8_t>& mem_;
+  int dataBytes_;
+  uint64_t latency_;
+  double bandwidth_;
+  double credit_ = 0;
+  std::mt19937_64 rng_;
+  std::vector<Request> pending_;
+  std::vector<size_t> ready_;
+  std::unordered_set<uint64_t> ids_;
+  bool haveBeat_ = false;  // a beat is presented and held until taken (stable until taken)
+  size_t chosen_ = 0;
+  uint64_t bytes_ = 0, requests_ = 0;
+};
