@@ -38,9 +38,10 @@ object ModelRun {
     val wall0 = System.nanoTime()
     val config = loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
+    val arith = ShadeArith.hardware(fmt, g) // checks the format before the frame is prepared
     val frame = Frame.prepare(config, fmt, threads)
     val t0 = System.nanoTime()
-    val hw = Render.run(frame.map, frame.querySet, frame.pixels, ShadeArith.hardware(fmt, g), threads, Some("search+shade"))
+    val hw = Render.run(frame.map, frame.querySet, frame.pixels, arith, threads, Some("search+shade"))
     val t1 = System.nanoTime()
     val refMap = PhotonMap.fromTree(frame.map.tree, frame.photons, FloatFormat.fp64, frame.h)
     val ref = Render.run(refMap, QuerySet.build(frame.queries, FloatFormat.fp64), frame.pixels, ShadeArith.float64, threads)
