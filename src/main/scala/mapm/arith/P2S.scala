@@ -8,19 +8,25 @@ import chisel3.util._
   * pipeline behind it most significant bit first: bit `width-1` at cycle t, bit `i` at cycle
   * t + (width-1-i). A new word may enter every cycle; the words overlap in the array.
   *
+  * With `stallable`, an `en` input freezes every register while low (the array holds its
+  * words); without it the array shifts every cycle.
+  *
   * Latency: bit i is delayed by width-1-i cycles (the MSB passes straight through).
   * Throughput: one word per cycle. Registers: width*(width-1)/2 flip-flops.
   */
-class P2S(width: Int) extends Module {
+class P2S(width: Int, stallable: Boolean = false) extends Module {
   require(width >= 1, s"P2S width must be at least 1, got $width")
-  override def desiredName = s"P2S_w$width"
+  override def desiredName = s"P2S_w$width${if (stallable) "_en" else ""}"
 
   val io = IO(new Bundle {
     /** The parallel word, sampled every cycle. */
     val in = Input(UInt(width.W))
     /** Bit i of the word that entered width-1-i cycles ago, for each i. */
     val out = Output(UInt(width.W))
+    /** Shift enable (stallable arrays only): registers hold while it is low. */
+    val en = if (stallable) Some(Input(Bool())) else None
   })
 
-  io.out := VecInit((0 until width).map(i => ShiftRegister(io.in(i), width - 1 - i))).asUInt
+  private val enable = io.en.getOrElse(true.B)
+  io.out := VecInit((0 until width).map(i => ShiftRegister(io.in(i), width - 1 - i, enable))).asUInt
 }

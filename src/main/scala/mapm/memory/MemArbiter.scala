@@ -31,7 +31,7 @@ class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends M
   private val srcBits = log2Ceil(n)
   private val selBits = srcBits max 1 // width of the grant registers
   private val idBits = ups.map(_.idBits).max
-  val downParams: MemPortParams = MemPortParams(ups.head.addressBits, ups.head.dataBytes, idBits + srcBits, ups.map(_.maxBeats).max)
+  val downParams: MemPortParams = MemArbiter.downParams(ups)
 
   val io = IO(new Bundle {
     val up = MixedVec(ups.map(p => Flipped(new MemPort(p))))
@@ -79,4 +79,11 @@ class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends M
     io.up(i).resp.bits.last := io.down.resp.bits.last
   }
   io.down.resp.ready := (if (n == 1) io.up(0).resp.ready else VecInit(io.up.map(_.resp.ready))(respSrc))
+}
+
+object MemArbiter {
+  /** The shape of the shared port of an arbiter over `ups`: their common address width and beat
+    * size, the widest id plus the source bits, the longest request. */
+  def downParams(ups: Seq[MemPortParams]): MemPortParams =
+    MemPortParams(ups.head.addressBits, ups.head.dataBytes, ups.map(_.idBits).max + log2Ceil(ups.size), ups.map(_.maxBeats).max)
 }

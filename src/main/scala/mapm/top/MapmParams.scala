@@ -57,13 +57,19 @@ final case class NumberParams(
   require(guardDigits >= 0 && guardDigits <= 8, s"guard digits must be 0..8, got $guardDigits")
 }
 
-/** Queues and buffers between the blocks. */
+/** Queues and buffers between the blocks (docs/mapm.md explains each). */
 final case class QueueParams(
-    registerQueueDepth: Int = 64, // entries of the Register queue (pending child searches)
-    rsEntries: Int = 8            // reservation-station entries per SOM
+    registerQueueDepth: Int = 128, // entries of each TSM's bank of the Register queue (pending child searches)
+    rsEntries: Int = 16,           // reservation-station entries per SOM, split evenly among its SOAs
+    fetchSlots: Int = 16,          // node fetches one TSM keeps in flight (its non-blocking window before the TSA)
+    tsmQueries: Int = 32,          // queries one TSM searches at once (its query table)
+    queryFetches: Int = 8          // new queries whose SOQ record is being fetched at once
 ) {
-  require(registerQueueDepth >= 2, s"Register queue depth must be at least 2, got $registerQueueDepth")
-  require(rsEntries >= 1, s"reservation-station entries must be at least 1, got $rsEntries")
+  require(registerQueueDepth >= 8 && registerQueueDepth <= 4096, s"Register queue depth must be 8..4096 per TSM, got $registerQueueDepth")
+  require(rsEntries >= 3, s"reservation-station entries must be at least 3 (one SO group), got $rsEntries")
+  require(fetchSlots >= 1 && fetchSlots <= 64, s"TSM fetch slots must be 1..64, got $fetchSlots")
+  require(tsmQueries >= 1 && tsmQueries <= 256, s"queries per TSM must be 1..256, got $tsmQueries")
+  require(queryFetches >= 1 && queryFetches <= 64, s"query fetches must be 1..64, got $queryFetches")
 }
 
 /** The memory port shared by all caches. */
@@ -97,8 +103,21 @@ final case class MapmParams(
 ) {
   require(caches.tsL1.lineBytes <= caches.tsL2.lineBytes, "TS L1 line must not be longer than the TS L2 line")
   require(caches.sopL1.lineBytes <= caches.sopL2.lineBytes, "SOP L1 line must not be longer than the SOP L2 line")
-  require(queues.registerQueueDepth >= 2 * counts.tsm,
-    s"Register queue depth ${queues.registerQueueDepth} must hold two children per TSM (at least ${2 * counts.tsm})")
+  require(queues.registerQueueDepth >= indices.nodeBits + 4,
+    s"Register queue depth ${queues.registerQueueDepth} must exceed the tree-depth reserve: at least ${indices.nodeBits + 4} for ${indices.nodeBits}-bit node indices")
+  require(queues.rsEntries % counts.soaPerSom == 0 && queues.rsEntries / counts.soaPerSom >= 3,
+    s"reservation-station entries ${queues.rsEntries} must split evenly into at least 3 per SOA (${counts.soaPerSom} SOAs per SOM)")
+
+  /** Reservation-station entries of one SOA's lane. */
+  def rsPerSoa: Int = queues.rsEntries / counts.soaPerSom
+  /** Geometry of one SOP L1 bank: a SOM's SOP L1 is split into one bank per SOA (photon record i
+    * in bank i mod soaPerSom), each of size sopL1 / (soaPerSom rounded up to a power of two). */
+  def sopL1Bank: CacheParams = {
+    val banks = Integer.highestOneBit(counts.soaPerSom) match { case b if b == counts.soaPerSom => b; case b => 2 * b }
+    val g = caches.sopL1
+    val size = math.max(g.sizeBytes / banks, g.lineBytes * g.ways * 2)
+    g.copy(sizeBytes = size)
+  }
 
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`. */
   def name: String = s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}"
@@ -108,7 +127,7 @@ object MapmParams {
   /** A configuration of Table 4.8 (TSMs/SOMs/SOAs per SOM), everything else at its default. */
   def table48(tsm: Int, som: Int, soa: Int): MapmParams = {
     val p = MapmParams()
-    p.copy(counts = ModuleCounts(tsm, som, soa), queues = p.queues.copy(registerQueueDepth = math.max(64, 4 * tsm)))
+    p.copy(counts = ModuleCounts(tsm, som, soa), queues = p.queues.copy(rsEntries = 8 * soa))
   }
 
   /** The 24 configurations of Table 4.8, by label (e.g. "16/16/2"). */
@@ -129,10 +148,12 @@ object MapmParams {
   def of(tsm: Int, som: Int, soa: Int, format: FloatFormat, g: Int,
          registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None): MapmParams =
     try {
+      require(tsm >= 1 && som >= 1 && soa >= 1, s"module counts must be at least 1, got $tsm/$som/$soa")
       val base = table48(tsm, som, soa)
       base.copy(
         numbers = NumberParams(format, g),
-        queues = QueueParams(registerQueueDepth.getOrElse(base.queues.registerQueueDepth), rsEntries.getOrElse(base.queues.rsEntries)))
+        queues = base.queues.copy(registerQueueDepth = registerQueueDepth.getOrElse(base.queues.registerQueueDepth),
+          rsEntries = rsEntries.getOrElse(base.queues.rsEntries)))
     } catch {
       case e: IllegalArgumentException => mapm.MapmError.fail(s"configuration ${tsm}/${som}/${soa} ${format.name}: ${e.getMessage.stripPrefix("requirement failed: ")}")
     }

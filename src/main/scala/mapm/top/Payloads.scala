@@ -42,9 +42,11 @@ class SoOp(p: MapmParams) extends Bundle {
 }
 
 /** The shader operations of one tree-search operation, in Nextnode's order: left child, right
-  * child, current node. They move as one: a handshake hands over every valid op at once. */
+  * child, current node, with the query they share. They move as one: a handshake hands over every
+  * valid photon at once. */
 class SoGroup(p: MapmParams) extends Bundle {
-  val ops = Vec(3, Valid(new SoOp(p)))
+  val query = new QueryData(p)
+  val photon = Vec(3, Valid(UInt(p.indices.nodeBits.W)))
 }
 
 /** The result of one shader operation: colour bits and flags per channel (OVF 1, UNF 2, INV 4),
@@ -55,4 +57,30 @@ class SoResult(p: MapmParams) extends Bundle {
   val cond = Bool()
   val q = UInt(p.indices.queryBits.W)
   val photon = UInt(p.indices.nodeBits.W)
+}
+
+/** The counters the host reads at the end of a run (docs/mapm.md): 64 bits each. */
+class MapmCounters extends Bundle {
+  val cycles = UInt(64.W)
+  val queries = UInt(64.W)
+  val tsOps = UInt(64.W)
+  val soIssued = UInt(64.W)
+  val soPassed = UInt(64.W)
+  val stallNodeData = UInt(64.W)
+  val stallRsFull = UInt(64.W)
+  val stallRqFull = UInt(64.W)
+  val stallQuery = UInt(64.W)
+  val tsL1_hits = UInt(64.W)
+  val tsL1_misses = UInt(64.W)
+  val tsL2_hits = UInt(64.W)
+  val tsL2_misses = UInt(64.W)
+  val soq_hits = UInt(64.W)
+  val soq_misses = UInt(64.W)
+  val sopL1_hits = UInt(64.W)
+  val sopL1_misses = UInt(64.W)
+  val sopL2_hits = UInt(64.W)
+  val sopL2_misses = UInt(64.W)
+  val bytesFetched = UInt(64.W)
+  /** Largest occupancy any TSM's Register-queue bank reached (the overflow rule's witness). */
+  val rqPeak = UInt(64.W)
 }

@@ -16,11 +16,12 @@ import chisel3.util._
   *
   * Latency: `width` cycles from the most significant bits to the outputs (the first slice is
   * combinational from its inputs, every slice ends in a register). Throughput: one comparison
-  * per cycle. Registers: 2 per slice (done, result).
+  * per cycle. Registers: 2 per slice (done, result). With `stallable`, an `en` input freezes
+  * every slice register while low.
   */
-class PipelinedComparator(width: Int) extends Module {
+class PipelinedComparator(width: Int, stallable: Boolean = false) extends Module {
   require(width >= 1, s"comparator width must be at least 1, got $width")
-  override def desiredName = s"PipelinedComparator_w$width"
+  override def desiredName = s"PipelinedComparator_w$width${if (stallable) "_en" else ""}"
 
   val io = IO(new Bundle {
     /** Minuend A, subtrahend B and compared value C, skewed (bit i valid width-1-i cycles after
@@ -32,12 +33,15 @@ class PipelinedComparator(width: Int) extends Module {
     val result = Output(Bool())
     /** A - B < C: decided and negative. */
     val less = Output(Bool())
+    /** Pipeline enable (stallable comparators only): slice registers hold while it is low. */
+    val en = if (stallable) Some(Input(Bool())) else None
   })
+  private val enable = io.en.getOrElse(true.B)
 
   val (done, result) = (0 until width).foldLeft((false.B, false.B)) { case ((doneIn, resultIn), j) =>
     val i = width - 1 - j
     val (r, d) = PipelinedComparator.compLogic(resultIn, io.a(i), io.b(i), io.c(i))
-    (RegNext(doneIn || d).suggestName(s"done_$j"), RegNext(Mux(doneIn, resultIn, r)).suggestName(s"result_$j"))
+    (RegEnable(doneIn || d, enable).suggestName(s"done_$j"), RegEnable(Mux(doneIn, resultIn, r), enable).suggestName(s"result_$j"))
   }
   io.done := done
   io.result := result

@@ -36,10 +36,14 @@ class TsaResponse(tagWidth: Int) extends Bundle {
   * Latency: W + 1 = manWidth + 4 cycles (27 for fp32): one alignment stage and one cycle per
   * slice; the dissertation's manWidth + 2 has no guard and sticky slices. Throughput: one
   * operation per cycle, no stalls. `bits` of the output are meaningful only while it is valid.
+  *
+  * With `stallable` (the Tree Search Module's use, 3.7) an `en` input freezes the whole pipeline
+  * while low: no register changes, the output holds, and `in` is not taken (the driver presents an
+  * operation only while `en` is high). Latency then counts enabled cycles.
   */
-class TSA(fmt: FloatFormat, tagWidth: Int) extends Module {
+class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends Module {
   require(tagWidth >= 1, s"tag width must be at least 1, got $tagWidth")
-  override def desiredName = s"TSA_${fmt.name}_t$tagWidth"
+  override def desiredName = s"TSA_${fmt.name}_t$tagWidth${if (stallable) "_en" else ""}"
 
   /** The alignment the hardware builds (guard bits, sticky bit), shared with the model. */
   private val al = TsaModel.Alignment.exact
@@ -51,7 +55,18 @@ class TSA(fmt: FloatFormat, tagWidth: Int) extends Module {
   val io = IO(new Bundle {
     val in = Flipped(Valid(new TsaRequest(fmt, tagWidth)))
     val out = Valid(new TsaResponse(tagWidth))
+    /** Pipeline enable (stallable TSAs only). */
+    val en = if (stallable) Some(Input(Bool())) else None
   })
+  private val enable = io.en.getOrElse(true.B)
+  /** `Pipe` whose registers move only while `enable` is high. */
+  private def stage[T <: Data](in: Valid[T], n: Int): Valid[T] =
+    (0 until n).foldLeft(in) { (v, _) =>
+      val r = Wire(Valid(chiselTypeOf(v.bits)))
+      r.valid := RegEnable(v.valid, false.B, enable)
+      r.bits := RegEnable(v.bits, enable)
+      r
+    }
 
   // Stage 0 (combinational): fields, input check, shift amounts, alignment.
   private val operands = Seq(io.in.bits.p, io.in.bits.h, io.in.bits.s)
@@ -87,21 +102,26 @@ class TSA(fmt: FloatFormat, tagWidth: Int) extends Module {
   meta.error := operands.map(invalid).reduce(_ || _)
 
   // Stage 1: aligned words registered; then bit-serial through P2S into the slices.
-  val alignedReg = aligned.map(RegNext(_))
-  val stage1 = Pipe(io.in.valid, meta, 1)
+  val alignedReg = aligned.map(RegEnable(_, enable))
+  private val entering = Wire(Valid(new Meta))
+  entering.valid := io.in.valid
+  entering.bits := meta
+  val stage1 = stage(entering, 1)
   val Seq(ps, hs, ss) = alignedReg.map { w =>
-    val p2s = Module(new P2S(wordWidth))
+    val p2s = Module(new P2S(wordWidth, stallable))
     p2s.io.in := w
+    p2s.io.en.foreach(_ := enable)
     p2s.io.out
   }
 
-  val cmpL = Module(new PipelinedComparator(wordWidth)) // p - h < s
+  val cmpL = Module(new PipelinedComparator(wordWidth, stallable)) // p - h < s
   cmpL.io.a := ps; cmpL.io.b := hs; cmpL.io.c := ss
-  val cmpR = Module(new PipelinedComparator(wordWidth)) // s - h < p, i.e. p + h > s
+  val cmpR = Module(new PipelinedComparator(wordWidth, stallable)) // s - h < p, i.e. p + h > s
   cmpR.io.a := ss; cmpR.io.b := hs; cmpR.io.c := ps
+  Seq(cmpL, cmpR).foreach(_.io.en.foreach(_ := enable))
 
   // Valid, tag and error beside the slices, leaving with the comparators' last stage.
-  val leaving = Pipe(stage1, wordWidth)
+  val leaving = stage(stage1, wordWidth)
   io.out.valid := leaving.valid
   io.out.bits.tag := leaving.bits.tag
   io.out.bits.error := leaving.bits.error

@@ -31,12 +31,12 @@ class RtlRenderSpec extends AnyFunSuite {
     val out = Paths.get(s"target/rtl-render-test/out-$t-$s-$a")
     assert(RenderCommand.render(scene = scene.toString, tsm = t, som = s, soa = a, seed = seed, maxCycles = 2000000,
       out = out.toString, threads = 2) == 0)
-    val stats = ujson.read(Files.readAllBytes(out.resolve("tiny-rtl-stats.json")))
+    val stats = ujson.read(Files.readAllBytes(out.resolve("rtl-render-test-tiny-rtl-stats.json")))
     assert(stats("result").str == "PASS")
     assert(stats("frameEqualsModel").bool)
     assert(stats("soIssued").num == stats("modelShaderOps").num && stats("soIssued").num > 0)
     assert(stats("soPassingCond").num == stats("modelShaderOpsPassingCond").num)
     assert(stats("tsOps").num == stats("modelTsOps").num)
-    assert(Files.isRegularFile(out.resolve("tiny-rtl.png")) && Files.isRegularFile(out.resolve("tiny-rtl.pfm")))
+    assert(Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.png")) && Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.pfm")))
   }
 }

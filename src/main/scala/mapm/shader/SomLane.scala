@@ -1,0 +1,121 @@
+package mapm.shader
+
+import chisel3._
+import chisel3.util._
+import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
+import mapm.top.{MapmParams, QueryData, SoResult}
+import mapm.util.Pick
+
+/** One shader operation waiting in a reservation station: its query and the photon's node index. */
+class SoOp(p: MapmParams) extends Bundle {
+  val query = new QueryData(p)
+  val photon = UInt(p.indices.nodeBits.W)
+}
+
+/** One SOA's lane of a Shader Operation Module (3.5.1): a reservation station of
+  * `rsPerSoa` entries, one bank of the SOM's SOP L1 and the [[SOA]].
+  *
+  * The SOM inserts up to three SOs per cycle (never more than `free`). Each waiting SO asks the SOP
+  * L1 bank for its photon record (32 bytes: position, power r, g, b, kernel, BRDF;
+  * docs/memory-layout.md), one request per cycle, the waiting entries served round-robin. When the
+  * record arrives the SO issues into the SOA in that same cycle and its entry is free again: the
+  * operands are then complete (Tomasulo-like, 3.5.1), so an SO never waits once its data is there
+  * and the lane never stalls (3.7). The SOA's result leaves on `out` after its fixed latency with
+  * the query and photon indices (carried through the SOA as its tag).
+  *
+  * Latency: insert, one cycle to the fetch request, the SOP L1 (3 cycles on a hit), then the SOA
+  * ([[SOA.latency]]). Throughput: one SO per cycle.
+  */
+class SomLane(p: MapmParams) extends Module {
+  private val fmt = p.numbers.format
+  private val w = fmt.width
+  private val n = p.rsPerSoa
+  val l1Config: CacheConfig = SomLane.l1Config(p)
+  override def desiredName = s"SomLane_${fmt.name}_g${p.numbers.guardDigits}_r$n"
+
+  val io = IO(new Bundle {
+    val h = Input(UInt(w.W))
+    val photonBase = Input(UInt(p.memory.addressBits.W))
+    val insert = Input(Vec(3, Valid(new SoOp(p))))
+    val free = Output(UInt(log2Ceil(n + 1).W))
+    val mem = new MemPort(l1Config.down)
+    val out = Valid(new SoResult(p))
+    /** An SO entered the SOA this cycle. */
+    val issued = Output(Bool())
+    val idle = Output(Bool())
+    val l1 = Output(new CacheCounters(l1Config.counterBits))
+    val error = Output(Bool())
+  })
+
+  val l1 = Module(new ReadOnlyCache(l1Config))
+  io.mem <> l1.io.down
+  io.l1 := l1.io.counters
+  io.error := l1.io.protocolError
+  val soa = Module(new SOA(fmt, p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits))
+
+  val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
+  val sent = RegInit(VecInit(Seq.fill(n)(false.B)))
+  val ops = Reg(Vec(n, new SoOp(p)))
+  io.free := PopCount(valid.map(!_))
+
+  // Insertion into the lowest free entries, in group order.
+  private var avail = ~valid.asUInt
+  for (k <- 0 until 3) {
+    val at = PriorityEncoder(avail)
+    when(io.insert(k).valid) { valid(at) := true.B; sent(at) := false.B; ops(at) := io.insert(k).bits }
+    avail = Mux(io.insert(k).valid, avail & ~UIntToOH(at, n), avail)
+  }
+
+  // Photon-record requests, round-robin over the entries still to ask.
+  val rrNext = RegInit(0.U(Pick.bits(n).W))
+  private val (want, pick) = Pick.roundRobin(valid.asUInt & ~sent.asUInt, rrNext)
+  l1.io.up.req.valid := want
+  l1.io.up.req.bits.addr := io.photonBase + (ops(pick).photon << 5)
+  l1.io.up.req.bits.id := pick
+  l1.io.up.req.bits.len := 0.U
+  when(l1.io.up.req.fire) { sent(pick) := true.B; rrNext := Pick.next(pick, n) }
+
+  // A record arrives: the SO issues.
+  l1.io.up.resp.ready := true.B
+  private val r = l1.io.up.resp
+  private val op = ops(r.bits.id)
+  private def field(i: Int): UInt = r.bits.data(32 * i + w - 1, 32 * i)
+  when(r.fire) { valid(r.bits.id) := false.B }
+  soa.io.in.valid := r.fire
+  soa.io.in.bits.px := field(0)
+  soa.io.in.bits.py := field(1)
+  soa.io.in.bits.pz := field(2)
+  for (c <- 0 until 3) {
+    soa.io.in.bits.power(c) := field(3 + c)
+    soa.io.in.bits.contrib(c) := op.query.contrib(c)
+  }
+  soa.io.in.bits.kernel := field(6)
+  soa.io.in.bits.brdf := field(7)
+  soa.io.in.bits.h := io.h
+  soa.io.in.bits.qx := op.query.x
+  soa.io.in.bits.qy := op.query.y
+  soa.io.in.bits.qz := op.query.z
+  soa.io.in.bits.tag := Cat(op.query.q, op.photon)
+  io.issued := r.fire
+
+  io.out.valid := soa.io.out.valid
+  io.out.bits.colour := soa.io.out.bits.colour
+  io.out.bits.flags := soa.io.out.bits.flags
+  io.out.bits.cond := soa.io.out.bits.cond
+  io.out.bits.q := soa.io.out.bits.tag >> p.indices.nodeBits
+  io.out.bits.photon := soa.io.out.bits.tag(p.indices.nodeBits - 1, 0)
+
+  // SOs inside the SOA's pipeline.
+  val inSoa = RegInit(0.U(log2Ceil(soa.latency + 2).W))
+  inSoa := inSoa + soa.io.in.valid.asUInt - soa.io.out.valid.asUInt
+  io.idle := !valid.asUInt.orR && inSoa === 0.U
+}
+
+object SomLane {
+  /** One SOP L1 bank: [[MapmParams.sopL1Bank]], one 32-byte photon record per read, one id per
+    * reservation-station entry, whole lines to the SOP L2. */
+  def l1Config(p: MapmParams): CacheConfig = {
+    val g = p.sopL1Bank
+    CacheConfig(g, wordBytes = 32, idBits = Pick.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes)
+  }
+}

@@ -1,0 +1,86 @@
+package mapm.tsearch
+
+import chisel3._
+import chisel3.util._
+import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
+import mapm.top.{MapmParams, QueryData, QueryIn}
+import mapm.util.Pick
+
+/** The front of the TS block: takes the host's tree-search instructions (query position and
+  * index, 3.2) and reads each query's contribution (r, g, b) from its 32-byte query record through
+  * the SOQ cache, so that the search and every SO it yields carry it (docs/mapm.md, "Where the
+  * query data travels").
+  *
+  * Up to `queryFetches` queries are in flight, held in a ring in arrival order; they leave on
+  * `out` in that order once their record has arrived (a query whose record is late holds back
+  * the ones behind it, as the dissertation's in-order query stream does). Record layout
+  * (docs/memory-layout.md): contribution c in the 4-byte slot at byte 4c.
+  *
+  * Latency: SOQ hit latency (3) + 1 cycles from `in` to `out`. Throughput: one query per cycle.
+  */
+class QueryFetch(p: MapmParams) extends Module {
+  private val n = p.queues.queryFetches
+  private val w = p.numbers.format.width
+  val soqConfig: CacheConfig = QueryFetch.soqConfig(p)
+  override def desiredName = s"QueryFetch_$n"
+
+  val io = IO(new Bundle {
+    val queryBase = Input(UInt(p.memory.addressBits.W))
+    val in = Flipped(Decoupled(new QueryIn(p)))
+    val out = Decoupled(new QueryData(p))
+    val mem = new MemPort(soqConfig.down)
+    /** No query is held. */
+    val idle = Output(Bool())
+    /** A query is held whose record has not arrived. */
+    val waiting = Output(Bool())
+    val soq = Output(new CacheCounters(soqConfig.counterBits))
+    val error = Output(Bool())
+  })
+
+  val soq = Module(new ReadOnlyCache(soqConfig))
+  io.mem <> soq.io.down
+  io.soq := soq.io.counters
+  io.error := soq.io.protocolError
+
+  val held = Reg(Vec(n, new QueryData(p)))
+  val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
+  val arrived = RegInit(VecInit(Seq.fill(n)(false.B)))
+  val head = RegInit(0.U(Pick.bits(n).W))
+  val tail = RegInit(0.U(Pick.bits(n).W))
+
+  private val room = !valid(tail)
+  io.in.ready := room && soq.io.up.req.ready
+  soq.io.up.req.valid := io.in.valid && room
+  soq.io.up.req.bits.addr := io.queryBase + (io.in.bits.q << 5)
+  soq.io.up.req.bits.id := tail
+  soq.io.up.req.bits.len := 0.U
+  when(io.in.fire) {
+    valid(tail) := true.B
+    arrived(tail) := false.B
+    held(tail).x := io.in.bits.x
+    held(tail).y := io.in.bits.y
+    held(tail).z := io.in.bits.z
+    held(tail).q := io.in.bits.q
+    tail := Pick.next(tail, n)
+  }
+  soq.io.up.resp.ready := true.B
+  when(soq.io.up.resp.fire) {
+    val i = soq.io.up.resp.bits.id
+    arrived(i) := true.B
+    for (c <- 0 until 3) held(i).contrib(c) := soq.io.up.resp.bits.data(32 * c + w - 1, 32 * c)
+  }
+  io.out.valid := valid(head) && arrived(head)
+  io.out.bits := held(head)
+  when(io.out.fire) { valid(head) := false.B; head := Pick.next(head, n) }
+
+  io.idle := !valid.asUInt.orR
+  io.waiting := (valid.asUInt & ~arrived.asUInt).orR
+}
+
+object QueryFetch {
+  /** The SOQ cache: Table 4.2's geometry, one 32-byte query record per read, fetched from memory
+    * in the port's beats. */
+  def soqConfig(p: MapmParams): CacheConfig =
+    CacheConfig(p.caches.soq, wordBytes = 32, idBits = Pick.bits(p.queues.queryFetches), addressBits = p.memory.addressBits,
+      downBytes = p.memory.dataBytes)
+}

@@ -1,0 +1,219 @@
+package mapm.tsearch
+
+import chisel3._
+import chisel3.util._
+import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
+import mapm.top.{MapmParams, QueryData, SoGroup}
+import mapm.util.Pick
+
+/** A pending search inside one TSM: the query's slot in the TSM's query table and the node. */
+class TsmOp(p: MapmParams) extends Bundle {
+  val qid = UInt(Pick.bits(p.queues.tsmQueries).W)
+  val node = UInt(p.indices.nodeBits.W)
+}
+
+/** What Nextnode needs of an operation besides TC_L and TC_R; it travels through the TSA as its tag. */
+class NextnodeInfo(p: MapmParams) extends Bundle {
+  val qid = UInt(Pick.bits(p.queues.tsmQueries).W)
+  val node = UInt(p.indices.nodeBits.W)
+  val hasL = Bool()
+  val hasR = Bool()
+  val leafL = Bool()
+  val leafR = Bool()
+  val right = UInt(p.indices.nodeBits.W)
+  /** The node record was malformed (axis 3, or a child index beyond the tree). */
+  val bad = Bool()
+}
+
+/** Run-time settings of a TSM, from the top's configuration. */
+class TsmConfig(p: MapmParams) extends Bundle {
+  val h = UInt(p.numbers.format.width.W)
+  val nodeBase = UInt(p.memory.addressBits.W)
+  val nodeCount = UInt((p.indices.nodeBits + 1).W)
+  /** Entries of the Register-queue bank kept back for depth-first progress (docs/mapm.md). */
+  val reserve = UInt(log2Ceil(p.indices.nodeBits + 2).W)
+}
+
+/** What a TSM did this cycle, for the block's counters. */
+class TsmEvents extends Bundle {
+  val tsOp = Bool()
+  val stallNodeData = Bool()
+  val stallRsFull = Bool()
+  val stallRqFull = Bool()
+}
+
+/** Tree Search Module (3.3): one search engine of the TS block, with its TS L1, its bank of the
+  * Register queue, its query table, a non-blocking node-fetch window, a stallable [[TSA]] and
+  * Nextnode.
+  *
+  * Each cycle it takes at most one operation: the top of its own Register-queue bank, or (when the
+  * bank is empty) a new query from the Launcher, which gets a query-table slot and starts at node
+  * 0. Taking one needs a free fetch slot, the TS L1 ready, and the Register-queue rule: with `a`
+  * entries in the bank, `f` operations in flight and reserve `K`, a pop needs a + 2f + 1 + K <= D
+  * or f = 0, a new query a + 2f + 2 + K <= D (docs/mapm.md proves the bank never overflows).
+  * The operation's node record (8 bytes) is read through the TS L1 at once; operations whose
+  * record has arrived enter the TSA (round-robin), the others wait in their fetch slot (stall
+  * cause "node data": a TSA bubble while records are outstanding). The TSA compares the query
+  * coordinate on the node's axis with h and the split value; Nextnode then pushes the non-leaf
+  * children it must visit into the bank and hands the SOs (leaf children, and the node itself when
+  * TC_L and TC_R both hold) to the Data bus as one [[SoGroup]] through the output register. While
+  * that register holds a group the Data bus has not taken, the whole pipeline stalls (stall cause
+  * "RS full"); the fetch window keeps receiving records meanwhile.
+  *
+  * Latency (no stalls, L1 hit): 3 (node fetch) + 1 (issue) + TSA latency (manWidth + 4) + 1
+  * (output register) cycles from taking an operation to its SO group; its children can be taken
+  * again the cycle after. Throughput: one tree-search operation per cycle.
+  */
+class Tsm(p: MapmParams) extends Module {
+  private val fmt = p.numbers.format
+  private val w = fmt.width
+  private val nq = p.queues.tsmQueries
+  private val ns = p.queues.fetchSlots
+  private val depth = p.queues.registerQueueDepth
+  val l1Config: CacheConfig = Tsm.l1Config(p)
+  override def desiredName = s"Tsm_${fmt.name}_d${depth}_f${ns}_q$nq"
+
+  val io = IO(new Bundle {
+    val cfg = Input(new TsmConfig(p))
+    /** A new query offered by the Launcher; `ready` says this TSM would take one. */
+    val query = Flipped(Decoupled(new QueryData(p)))
+    /** The Launcher has a query ready (for the stall counter only). */
+    val queryWaiting = Input(Bool())
+    val mem = new MemPort(l1Config.down)
+    val so = Decoupled(new SoGroup(p))
+    val idle = Output(Bool())
+    val error = Output(Bool())
+    val events = Output(new TsmEvents)
+    val l1 = Output(new CacheCounters(l1Config.counterBits))
+    val rqPeak = Output(UInt(log2Ceil(depth + 1).W))
+  })
+
+  val l1 = Module(new ReadOnlyCache(l1Config))
+  io.mem <> l1.io.down
+  io.l1 := l1.io.counters
+  val stack = Module(new RegisterStack(new TsmOp(p), depth))
+  io.rqPeak := stack.io.peak
+  val tsa = Module(new TSA(fmt, (new NextnodeInfo(p)).getWidth, stallable = true))
+
+  // Query table: a slot is in use while its reference count (operations in the bank or in flight) is non-zero.
+  val table = Reg(Vec(nq, new QueryData(p)))
+  val refs = RegInit(VecInit(Seq.fill(nq)(0.U(log2Ceil(depth + ns + tsa.latency + 2).W))))
+  private val freeQ = VecInit(refs.map(_ === 0.U)).asUInt
+  private val freeQIdx = PriorityEncoder(freeQ)
+
+  // Fetch window.
+  val slotValid = RegInit(VecInit(Seq.fill(ns)(false.B)))
+  val slotReady = RegInit(VecInit(Seq.fill(ns)(false.B)))
+  val slotOp = Reg(Vec(ns, new TsmOp(p)))
+  val slotRec = Reg(Vec(ns, UInt(64.W)))
+  private val freeSlots = ~slotValid.asUInt
+  private val freeSlot = PriorityEncoder(freeSlots)
+
+  // Operations taken and not yet through Nextnode.
+  val inFlight = RegInit(0.U(log2Ceil(ns + tsa.latency + 2).W))
+
+  // Intake: the bank first, else a new query, under the Register-queue rule.
+  private val canTake = freeSlots.orR && l1.io.up.req.ready
+  private val load = stack.io.count +& (inFlight << 1) +& io.cfg.reserve
+  private val popOk = stack.io.top.valid && (load + 1.U <= depth.U || inFlight === 0.U)
+  private val queryOk = !stack.io.top.valid && freeQ.orR && load + 2.U <= depth.U
+  private val pop = canTake && popOk
+  io.query.ready := canTake && queryOk
+  private val newQuery = io.query.fire
+  private val take = pop || newQuery
+  private val op = Wire(new TsmOp(p))
+  op := stack.io.top.bits
+  when(!pop) { op.qid := freeQIdx; op.node := 0.U }
+  stack.io.pop := pop
+  when(newQuery) { table(freeQIdx) := io.query.bits }
+
+  l1.io.up.req.valid := take
+  l1.io.up.req.bits.addr := io.cfg.nodeBase + (op.node << 3)
+  l1.io.up.req.bits.id := freeSlot
+  l1.io.up.req.bits.len := 0.U
+  when(take) {
+    slotValid(freeSlot) := true.B
+    slotReady(freeSlot) := false.B
+    slotOp(freeSlot) := op
+  }
+  l1.io.up.resp.ready := true.B
+  when(l1.io.up.resp.fire) {
+    slotReady(l1.io.up.resp.bits.id) := true.B
+    slotRec(l1.io.up.resp.bits.id) := l1.io.up.resp.bits.data
+  }
+
+  // Issue into the TSA while the pipeline moves.
+  val outValid = RegInit(false.B)
+  val outBits = Reg(new SoGroup(p))
+  private val en = !outValid || io.so.ready
+  tsa.io.en.get := en
+  private val readyMask = (slotValid.asUInt & slotReady.asUInt)
+  val rrNext = RegInit(0.U(Pick.bits(ns).W))
+  private val (anyReady, pick) = Pick.roundRobin(readyMask, rrNext)
+  private val issue = en && anyReady
+  when(issue) { slotValid(pick) := false.B; rrNext := Pick.next(pick, ns) }
+  private val rec = slotRec(pick)
+  private val iop = slotOp(pick)
+  private val word = rec(63, 32)
+  private val axis = word(1, 0)
+  private val q = table(iop.qid)
+  tsa.io.in.valid := issue
+  tsa.io.in.bits.p := MuxLookup(axis, q.z)(Seq(0.U -> q.x, 1.U -> q.y))
+  tsa.io.in.bits.h := io.cfg.h
+  tsa.io.in.bits.s := rec(w - 1, 0)
+  private val info = Wire(new NextnodeInfo(p))
+  info.qid := iop.qid
+  info.node := iop.node
+  info.hasL := word(2)
+  info.hasR := word(3)
+  info.leafL := word(4)
+  info.leafR := word(5)
+  info.right := word(6 + p.indices.nodeBits - 1, 6)
+  info.bad := axis === 3.U || (word(2) && iop.node +& 1.U >= io.cfg.nodeCount) ||
+    (word(3) && word(31, 6) >= io.cfg.nodeCount) || word(31, 6) >= (BigInt(1) << p.indices.nodeBits).U
+  tsa.io.in.bits.tag := info.asUInt
+
+  // Nextnode at the TSA's output.
+  private val done = tsa.io.out.valid && en
+  private val o = tsa.io.out.bits.tag.asTypeOf(new NextnodeInfo(p))
+  private val (tcl, tcr) = (tsa.io.out.bits.tcl, tsa.io.out.bits.tcr)
+  private val children = Seq((tcl && o.hasL && !o.leafL, o.node + 1.U), (tcr && o.hasR && !o.leafR, o.right))
+  for (((go, node), k) <- children.zipWithIndex) {
+    stack.io.push(k).valid := done && go
+    stack.io.push(k).bits.qid := o.qid
+    stack.io.push(k).bits.node := node
+  }
+  private val sos = Seq((tcl && o.hasL && o.leafL, o.node + 1.U), (tcr && o.hasR && o.leafR, o.right), (tcl && tcr, o.node))
+  when(en) {
+    outValid := done && sos.map(_._1).reduce(_ || _)
+    outBits.query := table(o.qid)
+    for (((v, node), k) <- sos.zipWithIndex) { outBits.photon(k).valid := v; outBits.photon(k).bits := node }
+  }
+  io.so.valid := outValid
+  io.so.bits := outBits
+
+  // Reference counts: +1 for a new query's root, +children -1 for an operation through Nextnode.
+  private val pushes = PopCount(children.map(_._1))
+  for (i <- 0 until nq) {
+    val leaving = done && o.qid === i.U
+    refs(i) := refs(i) + (newQuery && freeQIdx === i.U).asUInt + Mux(leaving, pushes, 0.U) - leaving.asUInt
+  }
+  inFlight := inFlight + take.asUInt - done.asUInt
+
+  io.idle := inFlight === 0.U && !stack.io.top.valid && !outValid
+  private val err = RegInit(false.B)
+  when((done && (o.bad || tsa.io.out.bits.error)) || stack.io.overflow || l1.io.protocolError) { err := true.B }
+  io.error := err
+  io.events.tsOp := done
+  io.events.stallNodeData := en && !anyReady && slotValid.asUInt.orR
+  io.events.stallRsFull := outValid && !io.so.ready
+  io.events.stallRqFull := canTake && ((stack.io.top.valid && !popOk) || (!stack.io.top.valid && io.queryWaiting && freeQ.orR && !queryOk))
+}
+
+object Tsm {
+  /** The TS L1 of one TSM: Table 4.2's geometry, 8-byte node records, one id per fetch slot, whole
+    * lines to the TS L2. */
+  def l1Config(p: MapmParams): CacheConfig =
+    CacheConfig(p.caches.tsL1, wordBytes = 8, idBits = Pick.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
+      downBytes = p.caches.tsL1.lineBytes)
+}
