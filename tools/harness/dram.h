@@ -1,9 +1,11 @@
 // The DRAM the harness plays on the MAPM's memory port (docs/memory-port.md).
 //
-// A request taken in cycle t is ready at t + latency. Each cycle at most one beat leaves, chosen
+// A request taken in cycle t is ready at t + L, L drawn uniformly from [latency, latencyMax] per
+// request (seeded). Each cycle at most one beat leaves, chosen
 // at random (seeded) among the ready requests, so responses to different ids come back in any
 // order and their beats interleave; the beats of one request stay in order. Bandwidth is a token
-// bucket: `bytesPerCycle` credit per cycle, a beat of `dataBytes` needs that much credit.
+// bucket: `bytesPerCycle` credit per cycle, a beat of `dataBytes` needs that much credit. With
+// `respGap` > 0, a beat that could be offered is held back with that probability (random gaps).
 // Protocol checks (each a failure message): an address not aligned to the request's size, an id
 // reused while its request is still outstanding.
 #pragma once
@@ -22,8 +24,10 @@ class Dram {
     uint64_t readyAt;
   };
 
-  Dram(const std::vector<uint8_t>& image, int dataBytes, uint64_t latency, double bytesPerCycle, uint64_t seed)
-      : mem_(image), dataBytes_(dataBytes), latency_(latency), bandwidth_(bytesPerCycle), rng_(seed) {}
+  Dram(const std::vector<uint8_t>& image, int dataBytes, uint64_t latency, uint64_t latencyMax, double bytesPerCycle,
+       double respGap, uint64_t seed)
+      : mem_(image), dataBytes_(dataBytes), latency_(latency), latencyMax_(latencyMax), bandwidth_(bytesPerCycle),
+        respGap_(respGap), rng_(seed) {}
 
   // Accepts a request in `cycle`; returns an error message or "".
   std::string request(uint64_t cycle, uint64_t addr, uint64_t id, uint64_t len) {
@@ -32,7 +36,8 @@ class Dram {
       return "memory protocol: address 0x" + hex(addr) + " not aligned to the request size " + std::to_string(bytes);
     if (!ids_.insert(id).second)
       return "memory protocol: id " + std::to_string(id) + " reused while its request is outstanding";
-    pending_.push_back({addr, id, (uint32_t)(len + 1), 0, cycle + latency_});
+    const uint64_t lat = latencyMax_ > latency_ ? std::uniform_int_distribution<uint64_t>(latency_, latencyMax_)(rng_) : latency_;
+    pending_.push_back({addr, id, (uint32_t)(len + 1), 0, cycle + lat});
     requests_++;
     return "";
   }
@@ -49,6 +54,7 @@ class Dram {
       for (size_t i = 0; i < pending_.size(); i++)
         if (pending_[i].readyAt <= cycle) ready_.push_back(i);
       if (ready_.empty()) return false;
+      if (respGap_ > 0 && std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < respGap_) return false;
       chosen_ = ready_[std::uniform_int_distribution<size_t>(0, ready_.size() - 1)(rng_)];
       haveBeat_ = true;
     }
@@ -87,8 +93,8 @@ class Dram {
 
   const std::vector<uint8_t>& mem_;
   int dataBytes_;
-  uint64_t latency_;
-  double bandwidth_;
+  uint64_t latency_, latencyMax_;
+  double bandwidth_, respGap_;
   double credit_ = 0;
   std::mt19937_64 rng_;
   std::vector<Request> pending_;

@@ -27,14 +27,15 @@ namespace {
 
 struct Options {
   std::string image, expected, out = ".", wave;
-  uint64_t latency = 100, maxCycles = 0, idleCycles = 200000, seed = 1, waveStart = 0, waveEnd = UINT64_MAX;
-  double bandwidth = 14.0, clockGhz = 1.5;
+  uint64_t latency = 100, latencyMax = 0, maxCycles = 0, idleCycles = 200000, seed = 1, waveStart = 0, waveEnd = UINT64_MAX;
+  double bandwidth = 14.0, clockGhz = 1.5, queryGap = 0, reqStall = 0, respGap = 0;
 };
 
 [[noreturn]] void usage(const std::string& msg) {
   fprintf(stderr,
-          "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--bandwidth B]\n"
-          "  [--max-cycles N] [--idle-cycles N] [--seed N] [--clock-ghz F] [--wave FILE.fst --wave-start N --wave-end N]\n",
+          "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--latency-max N] [--bandwidth B]\n"
+          "  [--query-gap P] [--req-stall P] [--resp-gap P] [--max-cycles N] [--idle-cycles N] [--seed N] [--clock-ghz F]\n"
+          "  [--wave FILE.fst --wave-start N --wave-end N]\n",
           msg.c_str());
   exit(2);
 }
@@ -49,11 +50,16 @@ Options parse(int argc, char** argv) {
     char* end = nullptr;
     auto u = [&]() { uint64_t r = strtoull(v.c_str(), &end, 10); if (*end || v.empty()) usage(a + ": not a number: " + v); return r; };
     auto d = [&]() { double r = strtod(v.c_str(), &end); if (*end || v.empty() || !(r > 0)) usage(a + ": not a positive number: " + v); return r; };
+    auto prob = [&]() { double r = strtod(v.c_str(), &end); if (*end || v.empty() || !(r >= 0 && r < 1)) usage(a + ": not a probability in [0, 1): " + v); return r; };
     if (a == "--image") o.image = v;
     else if (a == "--expected") o.expected = v;
     else if (a == "--out") o.out = v;
     else if (a == "--latency") o.latency = u();
+    else if (a == "--latency-max") o.latencyMax = u();
     else if (a == "--bandwidth") o.bandwidth = d();
+    else if (a == "--query-gap") o.queryGap = prob();
+    else if (a == "--req-stall") o.reqStall = prob();
+    else if (a == "--resp-gap") o.respGap = prob();
     else if (a == "--max-cycles") o.maxCycles = u();
     else if (a == "--idle-cycles") o.idleCycles = u();
     else if (a == "--seed") o.seed = u();
@@ -64,6 +70,7 @@ Options parse(int argc, char** argv) {
     else usage("unknown option " + a);
   }
   if (o.image.empty() || o.expected.empty()) usage("--image and --expected are required");
+  if (o.latencyMax && o.latencyMax < o.latency) usage("--latency-max must be at least --latency");
   return o;
 }
 
@@ -167,7 +174,10 @@ int main(int argc, char** argv) {
   t->reset = 0;
   inReset = false;
 
-  Dram dram(img.bytes, MEM_DATA_BYTES, opt.latency, opt.bandwidth, opt.seed);
+  Dram dram(img.bytes, MEM_DATA_BYTES, opt.latency, opt.latencyMax ? opt.latencyMax : opt.latency, opt.bandwidth, opt.respGap, opt.seed);
+  // Host-side randomness (query-stream gaps, request back-pressure), apart from the DRAM's.
+  std::mt19937_64 host(opt.seed * 0x9e3779b97f4a7c15ull + 1);
+  std::uniform_real_distribution<double> coin(0.0, 1.0);
   ExactAccumulators acc(ExactFormat(img.ew, img.mw), 3 * pixels);
   std::vector<uint8_t> queryDone(img.queries, 0);
   uint64_t fed = 0, completed = 0, soOut = 0, soPassed = 0, lastActivity = 0;
@@ -177,7 +187,9 @@ int main(int argc, char** argv) {
 
   while (failure.empty()) {
     // Drive this cycle's inputs.
-    const bool qValid = fed < img.streamEntries;
+    const bool qValid = fed < img.streamEntries && !(opt.queryGap > 0 && coin(host) < opt.queryGap);
+    const bool reqReady = !(opt.reqStall > 0 && coin(host) < opt.reqStall);
+    setMemReqReady(t, reqReady);
     if (qValid) {
       const uint32_t k = (uint32_t)fed;
       setQuery(t, true, img.streamField(k, 0), img.streamField(k, 1), img.streamField(k, 2), img.streamQuery(k));
@@ -188,12 +200,12 @@ int main(int argc, char** argv) {
     setMemResp(t, rValid, beat, rid, rlast);
     half(0);
     // Sample the handshakes and outputs of this cycle.
-    if (!qValid && doneOut(t)) {
+    if (fed == img.streamEntries && doneOut(t)) {
       if (dram.outstanding()) failure = "io_done high with " + std::to_string(dram.outstanding()) + " memory requests outstanding";
       break;
     }
     const bool qFire = qValid && queryReady(t);
-    const bool reqFire = memReqValid(t);
+    const bool reqFire = reqReady && memReqValid(t);
     const uint64_t reqAddr = memReqAddr(t), reqId = memReqId(t), reqLen = memReqLen(t);
     const bool respFire = rValid && memRespReady(t);
     readOuts(t, outs);
@@ -277,6 +289,10 @@ int main(int argc, char** argv) {
   if (failure.empty()) j.null("failure"); else j.str("failure", failure);
   j.integer("seed", opt.seed);
   j.integer("latency", opt.latency);
+  j.integer("latencyMax", opt.latencyMax ? opt.latencyMax : opt.latency);
+  j.num("queryGap", opt.queryGap);
+  j.num("reqStall", opt.reqStall);
+  j.num("respGap", opt.respGap);
   j.num("bandwidthBytesPerCycle", opt.bandwidth);
   j.num("clockGHz", opt.clockGhz);
   j.integer("cycles", cycle);

@@ -25,6 +25,9 @@ import mapm.top.CacheParams
   * @param maxWays     widest associativity built in hardware
   * @param counterBits width of the hit, miss and byte counters
   * @param hashSets    hash the set index (always done where associativity is capped at `maxWays`)
+  * @param interleave  the cache is one of `interleave` banks that split the lines by their lowest
+  *                    line-address bits (line address mod interleave); the set index skips those
+  *                    bits so that every set is used, and the tag keeps them
   */
 final case class CacheConfig(
     geometry: CacheParams,
@@ -36,10 +39,12 @@ final case class CacheConfig(
     targets: Int = 8,
     maxWays: Int = 16,
     counterBits: Int = 40,
-    hashSets: Boolean = false
+    hashSets: Boolean = false,
+    interleave: Int = 1
 ) {
   private def isPow2(x: Int) = x > 0 && (x & (x - 1)) == 0
   require(isPow2(maxWays), s"cache maxWays must be a power of two, got $maxWays")
+  require(isPow2(interleave), s"cache bank interleave must be a power of two, got $interleave")
   /** The geometry actually built: `geometry` with its associativity capped at `maxWays`. */
   val hw: CacheParams = if (geometry.ways > maxWays) geometry.copy(ways = maxWays) else geometry
   require(isPow2(hw.ways), s"cache associativity must be a power of two (tree pseudo-LRU), got ${hw.ways}")
@@ -51,7 +56,7 @@ final case class CacheConfig(
   require(mshrs >= 1 && mshrs <= 64, s"cache MSHR count must be 1..64, got $mshrs")
   require(targets >= 1 && targets <= 64, s"cache target-table size must be 1..64, got $targets")
   require(counterBits >= 16 && counterBits <= 64, s"cache counter width must be 16..64, got $counterBits")
-  require(addressBits > lineOffsetBits + setBits, s"address width $addressBits leaves no tag bits for ${geometry.describe}")
+  require(addressBits > lineOffsetBits + setBits + bankBits, s"address width $addressBits leaves no tag bits for ${geometry.describe}")
 
   /** The set index is hashed: asked for, or standing in for a fully associative geometry. */
   def hashed: Boolean = (hashSets || geometry.ways > maxWays) && hw.sets > 1
@@ -71,6 +76,8 @@ final case class CacheConfig(
   /** Index width of a data-array row (one line: set * ways + way). */
   def rowBits: Int = log2Ceil(hw.lines)
   def wayBits: Int = log2Ceil(ways) max 1
+  /** Line-address bits below the set index that select the bank. */
+  def bankBits: Int = log2Ceil(interleave)
   def mshrBits: Int = log2Ceil(mshrs) max 1
 
   /** The client port: single-beat reads of one word. */

@@ -36,7 +36,8 @@ class CacheCounters(bits: Int) extends Bundle {
   *    the [[MissTable]] and is served after the line's last beat;
   *  - miss: the victim is the lowest invalid way, else the tree pseudo-LRU way ([[TreePlru]]); the
   *    new tag is written at once, an MSHR fetches the line and the access waits on it.
-  * The set index is the line address modulo the set count, or hashed ([[CacheConfig.hashed]]).
+  * The set index is the line address modulo the set count (above the bank bits of an interleaved
+  * bank, [[CacheConfig.interleave]]), or hashed ([[CacheConfig.hashed]]).
   * The lookup stalls (in order) when the victim way is still held by an MSHR, when no MSHR or
   * target slot is free, or when a hit finds the data read port or the response queue taken. Waiting
   * accesses whose line has arrived have priority for the data read port. A response-queue credit
@@ -73,16 +74,20 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   private val wordOff = log2Ceil(cfg.wordBytes)
   private val lineWordBits = cfg.lineOffsetBits - wordOff
   private def wordAddr(byteAddr: UInt): UInt = byteAddr(cfg.addressBits - 1, wordOff)
+  private val bk = cfg.bankBits
   private def setOf(wa: UInt): UInt =
     if (cfg.setBits == 0) 0.U(1.W)
-    else if (!cfg.hashed) wa(lineWordBits + cfg.setBits - 1, lineWordBits)
+    else if (!cfg.hashed) wa(lineWordBits + bk + cfg.setBits - 1, lineWordBits + bk)
     else {
       // XOR of the set-index-wide chunks of the line address (CacheConfig.hashed).
       val line = wa(cfg.addressBits - wordOff - 1, lineWordBits)
       val chunks = (0 until line.getWidth by cfg.setBits).map(lo => line((lo + cfg.setBits - 1) min (line.getWidth - 1), lo))
       chunks.reduce(_ ^ _)
     }
-  private def tagOf(wa: UInt): UInt = wa(cfg.addressBits - wordOff - 1, lineWordBits + cfg.setBits)
+  // The line address without its set bits (with bank bits, those below the set index).
+  private def tagOf(wa: UInt): UInt =
+    if (bk == 0 || cfg.hashed) wa(cfg.addressBits - wordOff - 1, lineWordBits + cfg.setBits)
+    else Cat(wa(cfg.addressBits - wordOff - 1, lineWordBits + bk + cfg.setBits), wa(lineWordBits + bk - 1, lineWordBits))
   private def wordOf(wa: UInt): UInt = if (lineWordBits == 0) 0.U(1.W) else wa(lineWordBits - 1, 0)
   private def rowOf(set: UInt, way: UInt): UInt =
     if (cfg.sets == 1) way else if (cfg.ways == 1) set else Cat(set, way)

@@ -113,9 +113,14 @@ class SomLane(p: MapmParams) extends Module {
 
 object SomLane {
   /** One SOP L1 bank: [[MapmParams.sopL1Bank]], one 32-byte photon record per read, one id per
-    * reservation-station entry, whole lines to the SOP L2. */
+    * reservation-station entry, whole lines to the SOP L2. A bank holds the records of index
+    * mod soaPerSom = its lane; with a power-of-two lane count (and one record per line) it is
+    * built interleaved, so that its set index skips the lane bits and every set is used. */
   def l1Config(p: MapmParams): CacheConfig = {
     val g = p.sopL1Bank
-    CacheConfig(g, wordBytes = 32, idBits = Pick.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes)
+    val a = p.counts.soaPerSom
+    val interleave = if ((a & (a - 1)) == 0 && g.lineBytes == 32) a else 1
+    CacheConfig(g, wordBytes = 32, idBits = Pick.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes,
+      interleave = interleave)
   }
 }

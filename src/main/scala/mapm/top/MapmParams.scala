@@ -63,7 +63,7 @@ final case class QueueParams(
     rsEntries: Int = 16,           // reservation-station entries per SOM, split evenly among its SOAs
     fetchSlots: Int = 16,          // node fetches one TSM keeps in flight (its non-blocking window before the TSA)
     tsmQueries: Int = 32,          // queries one TSM searches at once (its query table)
-    queryFetches: Int = 8          // new queries whose SOQ record is being fetched at once
+    queryFetches: Int = 48         // new queries whose SOQ record is being fetched at once (covers the memory latency)
 ) {
   require(registerQueueDepth >= 8 && registerQueueDepth <= 4096, s"Register queue depth must be 8..4096 per TSM, got $registerQueueDepth")
   require(rsEntries >= 3, s"reservation-station entries must be at least 3 (one SO group), got $rsEntries")
@@ -75,7 +75,7 @@ final case class QueueParams(
 /** The memory port shared by all caches. */
 final case class MemoryParams(
     dataBytes: Int = 16,      // bytes per response beat
-    maxOutstanding: Int = 16, // requests in flight at once on the memory port (the outermost MemArbiter's limit)
+    maxOutstanding: Int = 64, // requests in flight at once on the memory port (the outermost MemArbiter's limit)
     addressBits: Int = 32     // byte address width
 ) {
   require(dataBytes >= 4 && (dataBytes & (dataBytes - 1)) == 0, s"memory data width must be a power of two of at least 4 bytes, got $dataBytes")

@@ -79,8 +79,12 @@ class QueryFetch(p: MapmParams) extends Module {
 
 object QueryFetch {
   /** The SOQ cache: Table 4.2's geometry, one 32-byte query record per read, fetched from memory
-    * in the port's beats. */
-  def soqConfig(p: MapmParams): CacheConfig =
-    CacheConfig(p.caches.soq, wordBytes = 32, idBits = Pick.bits(p.queues.queryFetches), addressBits = p.memory.addressBits,
-      downBytes = p.memory.dataBytes)
+    * in the port's beats. Every query misses once (its record is read once), so the cache keeps
+    * as many misses in flight as there are query fetches (up to its 64 MSHRs): at 100 cycles of
+    * memory latency, 4 MSHRs would hold the stream to 0.04 queries per cycle. */
+  def soqConfig(p: MapmParams): CacheConfig = {
+    val n = p.queues.queryFetches
+    CacheConfig(p.caches.soq, wordBytes = 32, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
+      downBytes = p.memory.dataBytes, mshrs = n min 64, targets = n min 64)
+  }
 }
