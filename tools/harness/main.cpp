@@ -18,6 +18,9 @@
 #include "verilated_fst_c.h"
 #endif
 #include "mapm_ports.h"
+#if __has_include("mapm_config.h")
+#include "mapm_config.h"  // the generator's parameters (mapm.top.Mapm.configHeader), when emitted with them
+#endif
 #include "accum.h"
 #include "dram.h"
 #include "expected.h"
@@ -285,6 +288,19 @@ int main(int argc, char** argv) {
   Json j;
   j.begin();
   j.str("top", MAPM_TOP_NAME);
+#ifdef MAPM_NAME
+  j.begin("config");
+  j.integer("tsm", MAPM_TSM);
+  j.integer("som", MAPM_SOM);
+  j.integer("soaPerSom", MAPM_SOA_PER_SOM);
+  j.integer("expWidth", MAPM_EXP_WIDTH);
+  j.integer("manWidth", MAPM_MAN_WIDTH);
+  j.integer("guardDigits", MAPM_GUARD_DIGITS);
+  j.integer("rqDepth", MAPM_RQ_DEPTH);
+  j.integer("rsEntries", MAPM_RS_ENTRIES);
+  j.integer("memMaxOutstanding", MAPM_MEM_MAX_OUTSTANDING);
+  j.end();
+#endif
   j.str("result", failure.empty() ? "PASS" : "FAIL");
   if (failure.empty()) j.null("failure"); else j.str("failure", failure);
   j.integer("seed", opt.seed);

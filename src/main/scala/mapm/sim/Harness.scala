@@ -137,7 +137,7 @@ object Harness {
     Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
     log(s"verilating $top into $dir (cached for later runs) ...")
     val t0 = System.nanoTime()
-    val flags = Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${dir.toAbsolutePath} -std=c++17") ++
+    val flags = Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${dir.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
       (if (trace) Seq("--trace-fst") else Seq.empty)
     Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, dir, "harness", flags)
     log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")

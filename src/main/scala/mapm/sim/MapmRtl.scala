@@ -3,14 +3,13 @@ package mapm.sim
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
 
-import mapm.MapmError
-import mapm.top.MapmParams
+import mapm.top.{Mapm, MapmParams}
 import scala.jdk.CollectionConverters._
 
 /** The emitted SystemVerilog of a whole MAPM, cached per configuration under
   * `target/emit/<Mapm_name>-<hash>/`; the hash covers the parameters and the hardware sources
   * (everything under src/main/scala/mapm except the model, CLI and simulation code), so a
-  * changed generator re-emits. */
+  * changed generator re-emits. Beside the Verilog it writes `mapm_config.h` ([[Mapm.configHeader]]). */
 object MapmRtl {
   def topName(p: MapmParams): String = s"Mapm_${p.name}"
 
@@ -22,16 +21,6 @@ object MapmRtl {
     Verilator.hash(files.map(f => src.relativize(f).toString + new String(Files.readAllBytes(f), UTF_8)): _*)
   }
 
-  /** The generator of the top module (mapm.top.Mapm, looked up at run time so this compiles
-    * before the top is part of the build). */
-  private def generator(p: MapmParams): () => chisel3.RawModule = {
-    val cls =
-      try Class.forName("mapm.top.Mapm")
-      catch { case _: ClassNotFoundException => MapmError.fail("the whole-MAPM top mapm.top.Mapm is not in this build yet") }
-    val ctor = cls.getConstructor(classOf[MapmParams])
-    () => ctor.newInstance(p).asInstanceOf[chisel3.RawModule]
-  }
-
   /** The directory of `p`'s emitted SystemVerilog (emitting it on a cache miss) and its top module. */
   def emit(p: MapmParams, log: String => Unit = _ => ()): (Path, String) = {
     val top = topName(p)
@@ -40,8 +29,8 @@ object MapmRtl {
     if (!Files.isRegularFile(stamp)) {
       log(s"emitting $top ...")
       val t0 = System.nanoTime()
-      val gen = generator(p)
-      Emit.toFile(gen(), dir, s"$top.sv")
+      Emit.toFile(new Mapm(p), dir, s"$top.sv")
+      Files.write(dir.resolve("mapm_config.h"), Mapm.configHeader(p).getBytes(UTF_8))
       Files.write(stamp, Array.emptyByteArray)
       log(f"emitted in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     }

@@ -63,7 +63,7 @@ final case class QueueParams(
     rsEntries: Int = 16,           // reservation-station entries per SOM, split evenly among its SOAs
     fetchSlots: Int = 16,          // node fetches one TSM keeps in flight (its non-blocking window before the TSA)
     tsmQueries: Int = 32,          // queries one TSM searches at once (its query table)
-    queryFetches: Int = 48         // new queries whose SOQ record is being fetched at once (covers the memory latency)
+    queryFetches: Int = 64         // new queries whose SOQ record is being fetched at once (covers the memory latency)
 ) {
   require(registerQueueDepth >= 8 && registerQueueDepth <= 4096, s"Register queue depth must be 8..4096 per TSM, got $registerQueueDepth")
   require(rsEntries >= 3, s"reservation-station entries must be at least 3 (one SO group), got $rsEntries")

@@ -49,8 +49,10 @@ class TsmEvents extends Bundle {
   * Each cycle it takes at most one operation: the top of its own Register-queue bank, or (when the
   * bank is empty) a new query from the Launcher, which gets a query-table slot and starts at node
   * 0. Taking one needs a free fetch slot, the TS L1 ready, and the Register-queue rule: with `a`
-  * entries in the bank, `f` operations in flight and reserve `K`, a pop needs a + 2f + 1 + K <= D
-  * or f = 0, a new query a + 2f + 2 + K <= D (docs/mapm.md proves the bank never overflows).
+  * entries in the bank, `R` entries reserved for the children of the operations in flight (2 each
+  * until its node record is known, then its number of non-leaf children) and depth reserve `K`, a
+  * pop needs a + R + 1 + K <= D or no operation in flight, a new query a + R + 2 + K <= D
+  * (docs/mapm.md proves that the bank never overflows and the search never deadlocks).
   * The operation's node record (8 bytes) is read through the TS L1 at once; operations whose
   * record has arrived enter the TSA (round-robin), the others wait in their fetch slot (stall
   * cause "node data": a TSA bubble while records are outstanding). The TSA compares the query
@@ -109,12 +111,14 @@ class Tsm(p: MapmParams) extends Module {
   private val freeSlots = ~slotValid.asUInt
   private val freeSlot = PriorityEncoder(freeSlots)
 
-  // Operations taken and not yet through Nextnode.
+  // Operations taken and not yet through Nextnode, and the bank entries reserved for the children
+  // they may still push: 2 until the node record is known, then its non-leaf children.
   val inFlight = RegInit(0.U(log2Ceil(ns + tsa.latency + 2).W))
+  val reserved = RegInit(0.U(log2Ceil(2 * (ns + tsa.latency) + 3).W))
 
   // Intake: the bank first, else a new query, under the Register-queue rule.
   private val canTake = freeSlots.orR && l1.io.up.req.ready
-  private val load = stack.io.count +& (inFlight << 1) +& io.cfg.reserve
+  private val load = stack.io.count +& reserved +& io.cfg.reserve
   private val popOk = stack.io.top.valid && (load + 1.U <= depth.U || inFlight === 0.U)
   private val queryOk = !stack.io.top.valid && freeQ.orR && load + 2.U <= depth.U
   private val pop = canTake && popOk
@@ -199,6 +203,9 @@ class Tsm(p: MapmParams) extends Module {
     refs(i) := refs(i) + (newQuery && freeQIdx === i.U).asUInt + Mux(leaving, pushes, 0.U) - leaving.asUInt
   }
   inFlight := inFlight + take.asUInt - done.asUInt
+  private def nonLeaf(hasL: Bool, leafL: Bool, hasR: Bool, leafR: Bool): UInt = (hasL && !leafL).asUInt +& (hasR && !leafR).asUInt
+  private val issuedRes = nonLeaf(info.hasL, info.leafL, info.hasR, info.leafR)
+  reserved := reserved + Mux(take, 2.U, 0.U) - Mux(issue, 2.U - issuedRes, 0.U) - Mux(done, nonLeaf(o.hasL, o.leafL, o.hasR, o.leafR), 0.U)
 
   io.idle := inFlight === 0.U && !stack.io.top.valid && !outValid
   private val err = RegInit(false.B)

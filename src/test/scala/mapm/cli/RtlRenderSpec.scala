@@ -11,7 +11,6 @@ import org.scalatest.funsuite.AnyFunSuite
 class RtlRenderSpec extends AnyFunSuite {
   private def haveVerilator: Boolean =
     sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
-  private def haveTop: Boolean = scala.util.Try(Class.forName("mapm.top.Mapm")).isSuccess
 
   private lazy val scene: Path = {
     val dir = Paths.get("target/rtl-render-test")
@@ -27,7 +26,6 @@ class RtlRenderSpec extends AnyFunSuite {
 
   for ((t, s, a, seed) <- Seq((1, 1, 1, 1L), (2, 1, 2, 7L))) test(s"render through the RTL at $t/$s/$a") {
     assume(haveVerilator, "verilator is not on PATH: the RTL render test needs it")
-    assume(haveTop, "mapm.top.Mapm is not in this build: the RTL render test needs the whole-MAPM top")
     val out = Paths.get(s"target/rtl-render-test/out-$t-$s-$a")
     assert(RenderCommand.render(scene = scene.toString, tsm = t, som = s, soa = a, seed = seed, maxCycles = 2000000,
       out = out.toString, threads = 2) == 0)

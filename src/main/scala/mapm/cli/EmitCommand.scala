@@ -1,0 +1,49 @@
+package mapm.cli
+
+import java.nio.charset.StandardCharsets.UTF_8
+import java.nio.file.{Files, Paths}
+import mainargs.{ParserForMethods, arg, main}
+import mapm.MapmError
+import mapm.model.FloatFormat
+import mapm.sim.Emit
+import mapm.top.{Mapm, MapmParams}
+import Args.FloatFormatReader
+
+/** `mapm emit`: writes the SystemVerilog of a whole MAPM ([[Mapm]]) of any size and format
+  * through CIRCT, and `mapm_config.h` with the same parameters for a C++ harness. Prints the
+  * elaboration time, the line count and the flip-flops. */
+object EmitCommand extends Command {
+  val name = "emit"
+  val summary = "emit a whole MAPM of any TSM/SOM/SOA count and format as SystemVerilog (+ mapm_config.h)"
+
+  @main
+  def emit(
+      @arg(doc = "Tree Search Modules") tsm: Int = 16,
+      @arg(doc = "Shader Operation Modules") som: Int = 16,
+      @arg(doc = "SOAs per SOM") soa: Int = 2,
+      @arg(doc = "number format: fp32, bf16, fp16, fp24 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
+      @arg(doc = "entries of each TSM's Register-queue bank (default 128)") rqDepth: Option[Int] = None,
+      @arg(doc = "reservation-station entries per SOM (default 8 per SOA)") rsEntries: Option[Int] = None,
+      @arg(doc = "output directory") out: String = "out/mapm"
+  ): Int = {
+    val p = MapmParams.of(tsm, som, soa, format, g, rqDepth, rsEntries)
+    val top = s"Mapm_${p.name}"
+    val dir = Paths.get(out)
+    val t0 = System.nanoTime()
+    val file =
+      try {
+        val f = Emit.toFile(new Mapm(p), dir, s"$top.sv")
+        Files.write(dir.resolve("mapm_config.h"), Mapm.configHeader(p).getBytes(UTF_8))
+        f
+      } catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write into $out: ${e.getMessage}") }
+    val secs = (System.nanoTime() - t0) / 1e9
+    val sv = new String(Files.readAllBytes(file), UTF_8)
+    println(f"wrote $file and ${dir.resolve("mapm_config.h")} ($top: ${p.counts.label}, format ${p.numbers.format}, g = $g) in $secs%.1f s")
+    println(s"  ${sv.linesIterator.size} lines of SystemVerilog, ${SvStats.registerBits(sv, Some(top))} flip-flops " +
+      s"(memory arrays not counted), ${p.counts.som * p.counts.soaPerSom} result ports")
+    0
+  }
+
+  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+}
