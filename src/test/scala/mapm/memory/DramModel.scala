@@ -5,9 +5,10 @@ import chiseltest._
 import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
 
-/** Random memory contents, byte addressed from 0. */
-final class MemImage(val size: Int, seed: Long) {
-  val bytes: Array[Byte] = { val r = new Random(seed); Array.fill(size)(r.nextInt(256).toByte) }
+/** Memory contents, byte addressed from 0: given bytes, or `size` random ones. */
+final class MemImage(val bytes: Array[Byte]) {
+  def this(size: Int, seed: Long) = this({ val r = new Random(seed); Array.fill(size)(r.nextInt(256).toByte) })
+  val size: Int = bytes.length
 
   /** `n` bytes from `addr`, little-endian (byte addr + j is bits 8j+7..8j). */
   def read(addr: Long, n: Int): BigInt = {

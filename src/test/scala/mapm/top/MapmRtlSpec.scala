@@ -1,0 +1,108 @@
+package mapm.top
+
+import java.nio.file.{Files, Path, Paths}
+
+import mapm.cli.RtlRun
+import mapm.model.{FloatFormat, TestScenes}
+import mapm.sim.Harness
+import org.scalatest.funsuite.AnyFunSuite
+
+/** The whole MAPM's emitted SystemVerilog (the CIRCT output `emit` writes) in the Verilator
+  * harness, against the model: every shader operation's (query, photon, colour bits, flags, cond)
+  * checked by the harness as it leaves (none unexpected, none twice, none missing), the frame
+  * bit-equal to the model's, the TS-op count equal to the model's. Memory latency is random per
+  * request (0 to 300 cycles), responses come back in random order with random gaps, requests are
+  * refused at random and the query stream has random gaps; the harness's idle watchdog fails a
+  * run that stops making progress.
+  *
+  * Needs Verilator (cancels without it). Each configuration is verilated once and cached. */
+class MapmRtlSpec extends AnyFunSuite {
+  private def haveVerilator: Boolean =
+    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
+
+  private val dir = Paths.get("target/mapm-rtl-test")
+
+  /** A Cornell-box scene file: `w` x `h` pixels, `rays` final-gather rays, `photons` photons,
+    * kernel radius `radius` (a JSON value: a number or {"auto": n}). */
+  private def scene(name: String, w: Int, h: Int, rays: Int, photons: Int, radius: String, seed: Int = 5): Path = {
+    Files.createDirectories(dir)
+    val obj = TestScenes.cornellObj.toAbsolutePath.toString
+    val text =
+      s"""{ "obj": "$obj",
+         |  "camera": { "position": [278, 273, -530], "direction": [0, 0, 1], "up": [0, 1, 0], "fov": 39.3 },
+         |  "lights": [ { "type": "point", "position": [1, 25, 1], "power": [10000000, 10000000, 10000000] } ],
+         |  "width": $w, "height": $h, "finalGatherRays": $rays, "photons": $photons, "maxBounces": 4,
+         |  "h": $radius, "seed": $seed, "directLightSamples": 0 }""".stripMargin
+    Files.write(dir.resolve(s"$name.json"), text.getBytes("UTF-8"))
+  }
+
+  private val stress = Harness.RunOptions(latency = 0, latencyMax = 300, queryGap = 0.3, reqStall = 0.2, respGap = 0.2,
+    maxCycles = 5000000)
+
+  /** Runs `p` on the prepared frame under `opts` with seeds `seeds`; returns the stats of each run. */
+  private def check(prep: RtlRun.Prepared, p: MapmParams, opts: Harness.RunOptions, seeds: Seq[Long]): Seq[ujson.Value] =
+    seeds.map { seed =>
+      val run = RtlRun.runConfig(prep, p, opts.copy(seed = seed), dir.resolve(s"${prep.name}-${p.name}-$seed"), _ => ())
+      assert(run.passed, s"${p.counts.label} ${p.numbers.format} seed $seed: ${run.failure}")
+      val s = run.outcome.stats.get
+      assert(s("soIssued").num == prep.model.count.toDouble && s("soPassingCond").num == prep.model.passing.toDouble)
+      assert(s("tsOps").num == prep.model.tsOps.toDouble)
+      assert(s("counters")("soIssued").num == prep.model.count.toDouble, "the SO counter counts every SO into an SOA")
+      assert(s("counters")("rqPeak").num <= p.queues.registerQueueDepth)
+      s
+    }
+
+  private lazy val small = RtlRun.prepare(scene("small", 6, 5, 3, 64, """{ "auto": 12 }""").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
+  private lazy val large = RtlRun.prepare(scene("large", 8, 6, 4, 1000, """{ "auto": 20 }""").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
+
+  for (((t, s, a), seeds) <- Seq((1, 1, 1) -> Seq(1L, 2L, 3L), (2, 1, 2) -> Seq(4L, 5L, 6L), (4, 4, 2) -> Seq(7L, 8L), (3, 2, 3) -> Seq(9L, 10L)))
+    test(s"$t/$s/$a fp32, 64 and 1,000 photons, random latency 0-300, reordering, gaps: every SO exact, none lost or twice") {
+      assume(haveVerilator, "verilator is not on PATH")
+      val p = MapmParams.of(t, s, a, FloatFormat.fp32, 3)
+      assert(small.model.count > 100 && large.model.count > 1000)
+      check(small, p, stress, seeds)
+      check(large, p, stress, seeds.take(1))
+      info(s"${seeds.size + 1} runs: ${small.frame.querySet.size} and ${large.frame.querySet.size} queries, ${small.model.count} and ${large.model.count} SOs")
+    }
+
+  test("fp16 at 2/2/2: every SO exact under random memory timing") {
+    assume(haveVerilator, "verilator is not on PATH")
+    val prep = RtlRun.prepare(scene("fp16", 6, 5, 3, 300, "100").toString, Some(FloatFormat.fp16), 3, dir.toString, 2)
+    check(prep, MapmParams.of(2, 2, 2, FloatFormat.fp16, 3), stress, Seq(11L, 12L))
+  }
+
+  test("Register-queue extreme: h beyond the scene, every node yields two children, a minimal bank; never overflows") {
+    assume(haveVerilator, "verilator is not on PATH")
+    // h = 10,000 mm covers the whole box: TC_L and TC_R hold at every node, so every non-leaf
+    // child is searched and every photon is an SO of every query.
+    val prep = RtlRun.prepare(scene("everything", 3, 2, 2, 1000, "10000").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
+    val nonLeaf = (0 until prep.frame.map.size).count(i => prep.frame.map.tree.hasLeft(i) || prep.frame.map.tree.hasRight(i))
+    assert(prep.model.tsOps == prep.frame.querySet.size.toLong * nonLeaf, "every non-leaf node is searched for every query")
+    assert(prep.model.count == prep.frame.querySet.size.toLong * 1000, "every photon is an SO of every query")
+    // The smallest bank the parameters allow: 26 entries, of which K = 10 are the depth reserve.
+    val minimal = MapmParams.of(1, 1, 1, FloatFormat.fp32, 3, registerQueueDepth = Some(26))
+    val stats = check(prep, minimal, stress, Seq(13L)) ++ check(prep, MapmParams.of(2, 1, 2, FloatFormat.fp32, 3), stress, Seq(14L))
+    val peaks = stats.map(_("counters")("rqPeak").num)
+    assert(peaks.head <= 26 && peaks.head >= 16, s"the minimal bank filled up to ${peaks.head} of 26")
+    assert(stats.head("counters")("stallRqFull").num > 0, "the Register-queue rule held work back")
+    // Three SOs per TS op from two TSMs against two SOAs: every reservation station fills and the
+    // TS block stalls on them.
+    assert(stats(1)("counters")("stallRsFull").num > 0)
+    info(s"Register-queue peaks ${peaks.mkString(", ")} (banks of 26 and 128); ${prep.model.tsOps} TS ops, ${prep.model.count} SOs")
+  }
+
+  test("edge cases: empty tree, one photon, one query") {
+    assume(haveVerilator, "verilator is not on PATH")
+    val p = MapmParams.of(1, 1, 1, FloatFormat.fp32, 3)
+    val empty = RtlRun.prepare(scene("empty", 4, 3, 2, 0, "30").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
+    assert(empty.model.count == 0 && empty.model.tsOps == 0)
+    val s0 = check(empty, p, stress, Seq(15L)).head
+    assert(s0("queries").num == empty.frame.querySet.size)
+    val one = RtlRun.prepare(scene("one-photon", 4, 3, 2, 1, "10000").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
+    assert(one.model.count == one.frame.querySet.size && one.model.tsOps == one.frame.querySet.size)
+    check(one, p, stress, Seq(16L))
+    val single = RtlRun.prepare(scene("one-query", 1, 1, 1, 200, """{ "auto": 20 }""").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
+    assert(single.frame.querySet.size == 1 && single.model.count > 0)
+    check(single, p, stress, Seq(17L))
+  }
+}
