@@ -104,7 +104,7 @@ struct Image {
     return "";
   }
   uint64_t slotAt(uint64_t at) const { return slot == 4 ? le<uint32_t>(bytes, at) : le<uint16_t>(bytes, at); }
-  uint32_t pixel(uint32_t q) const { return le<uint32_t>(bytes, queryBase + (slot == 4 ? 32 : 16) * (uint64_t)q + 12); }
+  uint32_t pixel(uint32_t q) const { return le<uint32_t>(bytes, queryBase + (slot == 4 ? 32 : 16) * (uint64_t)q + (slot == 4 ? 28 : 12)); }
   uint64_t streamField(uint32_t k, int f) const { return slotAt(streamBase + 16ull * k + f * slot); }
   uint32_t streamQuery(uint32_t k) const { return le<uint32_t>(bytes, streamBase + 16ull * k + 12); }
 };

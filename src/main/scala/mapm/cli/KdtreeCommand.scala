@@ -23,7 +23,10 @@ object KdtreeCommand extends Command {
   def readPhotons(path: java.nio.file.Path): PhotonCsv = {
     val lines =
       try java.nio.file.Files.readAllLines(path).toArray(Array.empty[String]).toSeq
-      catch { case e: Exception => MapmError.fail(s"kdtree: cannot read $path: $e") }
+      catch {
+        case _: java.nio.file.NoSuchFileException => MapmError.fail(s"kdtree: $path: file not found")
+        case e: java.io.IOException => MapmError.fail(s"kdtree: cannot read $path: ${Option(e.getMessage).getOrElse(e.getClass.getSimpleName)}")
+      }
     def at(line: Int) = s"$path line $line"
     MapmError.check(lines.nonEmpty && lines.head.split(",", -1).map(_.trim).toSeq == Seq("x", "y", "z"),
       s"${at(1)}: expected the header 'x,y,z'")

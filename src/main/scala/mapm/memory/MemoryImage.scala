@@ -16,8 +16,8 @@ import mapm.model.{FloatFormat, NodeWord, PhotonMap, QuerySet}
   * Record layouts (byte offsets; s = slot size):
   *  - node (8 B): 0 split value (4-byte slot), 4 [[NodeWord]] (axis, child flags, right index)
   *  - photon (8 s B): x, y, z, power r, g, b, kernel, BRDF at 0, s, ..., 7 s
-  *  - query, unpacked (32 B): contribution r, g, b at 0, 4, 8; pixel index (u32) 12;
-  *    position x, y, z at 16, 20, 24; 28 zero
+  *  - query, unpacked (32 B): contribution r, g, b at 0, 4, 8; 12 zero; position x, y, z at
+  *    16, 20, 24; pixel index (u32) 28 (the hardware reads the first 16 bytes, the host the rest)
   *  - query, packed (16 B): contribution r, g, b at 0, 2, 4; position x, y, z at 6, 8, 10; pixel 12
   *  - stream (16 B): position x, y, z at 0, s, 2 s; query index (u32) at 12; the rest zero
   *
@@ -127,7 +127,7 @@ object MemoryImage {
   }
 
   /** Byte offsets of contribution, pixel index and position within a query record. */
-  private def queryOffsets(packed: Boolean): (Int, Int, Int) = if (packed) (0, 12, 6) else (0, 12, 16)
+  private def queryOffsets(packed: Boolean): (Int, Int, Int) = if (packed) (0, 12, 6) else (0, 28, 16)
 
   /** The image of a photon map and its queries; the stream issues the queries in `order`
     * (default: query order). */

@@ -46,9 +46,8 @@ class DataBus(p: MapmParams) extends Module {
   // Claims in rotated TSM order; claim(k) is the SOM (one-hot) taken by the k-th group in that order.
   private var avail = ((BigInt(1) << s) - 1).U(s.W)
   private val claims = (0 until t).map { k =>
-    val (any, j) = Pick.roundRobin(fits(rot(startT, k, t)) & avail, startS)
-    val oh = Mux(any, UIntToOH(j, s), 0.U(s.W))
-    avail = avail & ~oh
+    val oh = Pick.roundRobinOH(fits(rot(startT, k, t)) & avail, startS)
+    if (k < t - 1) avail = avail & ~oh
     oh
   }
   private val claimOf = VecInit(claims)

@@ -53,8 +53,18 @@ class Som(p: MapmParams) extends Module {
 }
 
 object Som {
-  /** The lane (SOA, SOP L1 bank) of a photon: its index mod `a`. */
-  def lane(photon: UInt, a: Int): UInt = if (a == 1) 0.U else photon % a.U
+  /** The lane (SOA, SOP L1 bank) of a photon: its index mod `a` (the low bits for a power of two,
+    * else the remainder digit by digit from the top: r = (2 r + bit) mod a, one compare-subtract a bit). */
+  def lane(photon: UInt, a: Int): UInt =
+    if (a == 1) 0.U
+    else if ((a & (a - 1)) == 0) photon(log2Ceil(a) - 1, 0)
+    else {
+      val w = log2Ceil(a)
+      (photon.getWidth - 1 to 0 by -1).foldLeft(0.U(w.W)) { (r, i) =>
+        val x = Cat(r, photon(i))
+        Mux(x >= a.U, x - a.U, x)(w - 1, 0)
+      }
+    }
 
   /** How many of `g`'s SOs go to each of `a` lanes. */
   def needs(g: SoGroup, a: Int): Seq[UInt] =

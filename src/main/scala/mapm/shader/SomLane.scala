@@ -18,7 +18,8 @@ class SoOp(p: MapmParams) extends Bundle {
   * The SOM inserts up to three SOs per cycle (never more than `free`). Each waiting SO asks the SOP
   * L1 bank for its photon record (32 bytes: position, power r, g, b, kernel, BRDF;
   * docs/memory-layout.md), one request per cycle, the waiting entries served round-robin. When the
-  * record arrives the SO issues into the SOA in that same cycle and its entry is free again: the
+  * record arrives the SO issues into the SOA in that same cycle and its entry is free again (a
+  * record with non-zero bits above a slot's format bits raises the sticky `error`): the
   * operands are then complete (Tomasulo-like, 3.5.1), so an SO never waits once its data is there
   * and the lane never stalls (3.7). The SOA's result leaves on `out` after its fixed latency with
   * the query and photon indices (carried through the SOA as its tag).
@@ -50,7 +51,6 @@ class SomLane(p: MapmParams) extends Module {
   val l1 = Module(new ReadOnlyCache(l1Config))
   io.mem <> l1.io.down
   io.l1 := l1.io.counters
-  io.error := l1.io.protocolError
   val soa = Module(new SOA(fmt, p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits))
 
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
@@ -61,9 +61,9 @@ class SomLane(p: MapmParams) extends Module {
   // Insertion into the lowest free entries, in group order.
   private var avail = ~valid.asUInt
   for (k <- 0 until 3) {
-    val at = PriorityEncoder(avail)
-    when(io.insert(k).valid) { valid(at) := true.B; sent(at) := false.B; ops(at) := io.insert(k).bits }
-    avail = Mux(io.insert(k).valid, avail & ~UIntToOH(at, n), avail)
+    val at = PriorityEncoderOH(avail)
+    for (e <- 0 until n) when(io.insert(k).valid && at(e)) { valid(e) := true.B; sent(e) := false.B; ops(e) := io.insert(k).bits }
+    if (k < 2) avail = Mux(io.insert(k).valid, avail & ~at, avail)
   }
 
   // Photon-record requests, round-robin over the entries still to ask.
@@ -97,6 +97,10 @@ class SomLane(p: MapmParams) extends Module {
   soa.io.in.bits.qz := op.query.z
   soa.io.in.bits.tag := Cat(op.query.q, op.photon)
   io.issued := r.fire
+  // A photon record's slots hold format bits zero-extended: anything above them is a malformed image.
+  private val malformed = RegInit(false.B)
+  if (w < 32) when(r.fire && (0 until 8).map(i => r.bits.data(32 * i + 31, 32 * i + w).orR).reduce(_ || _)) { malformed := true.B }
+  io.error := l1.io.protocolError || malformed
 
   io.out.valid := soa.io.out.valid
   io.out.bits.colour := soa.io.out.bits.colour

@@ -7,9 +7,10 @@ import mapm.top.{MapmParams, QueryData, QueryIn}
 import mapm.util.Pick
 
 /** The front of the TS block: takes the host's tree-search instructions (query position and
-  * index, 3.2) and reads each query's contribution (r, g, b) from its 32-byte query record through
-  * the SOQ cache, so that the search and every SO it yields carry it (docs/mapm.md, "Where the
-  * query data travels").
+  * index, 3.2) and reads each query's contribution (r, g, b), the first 16 bytes of its 32-byte
+  * query record, through the SOQ cache, so that the search and every SO it yields carry it
+  * (docs/mapm.md, "Where the query data travels"). A record whose padding (the slots' upper bits,
+  * bytes 12..15) is not zero raises the sticky `error`.
   *
   * Up to `queryFetches` queries are in flight, held in a ring in arrival order; they leave on
   * `out` in that order once their record has arrived (a query whose record is late holds back
@@ -40,7 +41,6 @@ class QueryFetch(p: MapmParams) extends Module {
   val soq = Module(new ReadOnlyCache(soqConfig))
   io.mem <> soq.io.down
   io.soq := soq.io.counters
-  io.error := soq.io.protocolError
 
   val held = Reg(Vec(n, new QueryData(p)))
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
@@ -64,27 +64,33 @@ class QueryFetch(p: MapmParams) extends Module {
     tail := Pick.next(tail, n)
   }
   soq.io.up.resp.ready := true.B
+  private val rec = soq.io.up.resp.bits.data
   when(soq.io.up.resp.fire) {
     val i = soq.io.up.resp.bits.id
     arrived(i) := true.B
-    for (c <- 0 until 3) held(i).contrib(c) := soq.io.up.resp.bits.data(32 * c + w - 1, 32 * c)
+    for (c <- 0 until 3) held(i).contrib(c) := rec(32 * c + w - 1, 32 * c)
   }
+  // The rest of the 16 bytes read must be zero: the slots' upper bits and bytes 12..15.
+  private val padding = (0 until 3).filter(_ => w < 32).map(c => rec(32 * c + 31, 32 * c + w)) :+ rec(127, 96)
+  private val malformed = RegInit(false.B)
+  when(soq.io.up.resp.fire && padding.map(_.orR).reduce(_ || _)) { malformed := true.B }
   io.out.valid := valid(head) && arrived(head)
   io.out.bits := held(head)
   when(io.out.fire) { valid(head) := false.B; head := Pick.next(head, n) }
 
+  io.error := soq.io.protocolError || malformed
   io.idle := !valid.asUInt.orR
   io.waiting := (valid.asUInt & ~arrived.asUInt).orR
 }
 
 object QueryFetch {
-  /** The SOQ cache: Table 4.2's geometry, one 32-byte query record per read, fetched from memory
+  /** The SOQ cache: Table 4.2's geometry, the first 16 bytes of a query record per read, fetched from memory
     * in the port's beats. Every query misses once (its record is read once), so the cache keeps
     * as many misses in flight as there are query fetches (up to its 64 MSHRs): at 100 cycles of
     * memory latency, 4 MSHRs would hold the stream to 0.04 queries per cycle. */
   def soqConfig(p: MapmParams): CacheConfig = {
     val n = p.queues.queryFetches
-    CacheConfig(p.caches.soq, wordBytes = 32, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
+    CacheConfig(p.caches.soq, wordBytes = 16, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
       downBytes = p.memory.dataBytes, mshrs = n min 64, targets = n min 64)
   }
 }

@@ -16,6 +16,16 @@ object Pick {
     }
   }
 
+  /** [[roundRobin]] as a one-hot mask (all zero when `mask` is). */
+  def roundRobinOH(mask: UInt, from: UInt): UInt = {
+    val n = mask.getWidth
+    if (n == 1) mask
+    else {
+      val above = mask & VecInit((0 until n).map(i => i.U >= from)).asUInt
+      Mux(above.orR, PriorityEncoderOH(above), PriorityEncoderOH(mask))
+    }
+  }
+
   /** `i + 1` modulo `n` for an index register of `log2Ceil(n)` bits (at least one bit). */
   def next(i: UInt, n: Int): UInt = if (n == 1) 0.U else Mux(i === (n - 1).U, 0.U, i + 1.U)
 

@@ -52,7 +52,7 @@ class KdtreeCommandSpec extends AnyFunSuite {
     }
     val out = intercept[MapmError](KdtreeCommand.run(Seq("--photons", table31Csv.toString, "--box", "0,0,0,300,600,600")))
     assert(out.getMessage.contains("line 2") && out.getMessage.contains("outside the box"))
-    assert(intercept[MapmError](KdtreeCommand.run(Seq("--photons", "/nonexistent/p.csv"))).getMessage.contains("cannot read"))
+    assert(intercept[MapmError](KdtreeCommand.run(Seq("--photons", "/nonexistent/p.csv"))).getMessage.contains("file not found"))
     assert(intercept[MapmError](KdtreeCommand.run(Seq("--photons", table31Csv.toString, "--box", "1,2,3"))).getMessage.contains("6 numbers"))
   }
 

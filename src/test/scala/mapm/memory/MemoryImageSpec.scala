@@ -56,10 +56,10 @@ class MemoryImageSpec extends AnyFunSuite {
     assert(Seq(0, 4, 8).map(o => java.lang.Float.intBitsToFloat(b.getInt(p4 + o))) == Seq(72.7003f, 548.8f, 191.099f))
     assert(java.lang.Float.intBitsToFloat(b.getInt(p4 + 24)) == (1 / (math.Pi * 100)).toFloat)
     assert(java.lang.Float.intBitsToFloat(b.getInt(p4 + 28)) == (1 / math.Pi).toFloat)
-    // queries at align64(128 + 224) = 384: contribution, pixel, position
+    // queries at align64(128 + 224) = 384: contribution, zero, position, pixel
     assert(b.getLong(40) == 384)
     assert(Seq(0, 4, 8).map(o => java.lang.Float.intBitsToFloat(b.getInt(384 + o))) == Seq(0.5f, 0.25f, 1.0f))
-    assert(b.getInt(384 + 12) == 42)
+    assert(b.getInt(384 + 28) == 42 && b.getInt(384 + 12) == 0)
     assert(Seq(16, 20, 24).map(o => java.lang.Float.intBitsToFloat(b.getInt(384 + o))) == Seq(0f, 358.739f, 280.736f))
     // stream at 448: position, then the query index at 12
     assert(b.getLong(48) == 448 && b.getLong(56) == 464 && bytes.length == 464)
