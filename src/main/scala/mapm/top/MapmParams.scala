@@ -59,7 +59,7 @@ final case class NumberParams(
 
 /** Queues and buffers between the blocks (docs/mapm.md explains each). */
 final case class QueueParams(
-    registerQueueDepth: Int = 128, // entries of each TSM's bank of the Register queue (pending child searches)
+    registerQueueDepth: Int = 256, // entries of each TSM's bank of the Register queue (pending child searches)
     rsEntries: Int = 16,           // reservation-station entries per SOM, split evenly among its SOAs
     fetchSlots: Int = 16,          // node fetches one TSM keeps in flight (its non-blocking window before the TSA)
     tsmQueries: Int = 32,          // queries one TSM searches at once (its query table)

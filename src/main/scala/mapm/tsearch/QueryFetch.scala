@@ -12,9 +12,9 @@ import mapm.util.Pick
   * (docs/mapm.md, "Where the query data travels"). A record whose padding (the slots' upper bits,
   * bytes 12..15) is not zero raises the sticky `error`.
   *
-  * Up to `queryFetches` queries are in flight, held in a ring in arrival order; they leave on
-  * `out` in that order once their record has arrived (a query whose record is late holds back
-  * the ones behind it, as the dissertation's in-order query stream does). Record layout
+  * Up to `queryFetches` queries are in flight, each in a slot of its own; a query leaves on `out`
+  * once its record has arrived, round-robin among the arrived ones, so a record the memory
+  * answers late does not hold back the queries behind it. Record layout
   * (docs/memory-layout.md): contribution c in the 4-byte slot at byte 4c.
   *
   * Latency: SOQ hit latency (3) + 1 cycles from `in` to `out`. Throughput: one query per cycle.
@@ -45,10 +45,8 @@ class QueryFetch(p: MapmParams) extends Module {
   val held = Reg(Vec(n, new QueryData(p)))
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
   val arrived = RegInit(VecInit(Seq.fill(n)(false.B)))
-  val head = RegInit(0.U(Pick.bits(n).W))
-  val tail = RegInit(0.U(Pick.bits(n).W))
-
-  private val room = !valid(tail)
+  private val tail = PriorityEncoder(~valid.asUInt)
+  private val room = !valid.asUInt.andR
   io.in.ready := room && soq.io.up.req.ready
   soq.io.up.req.valid := io.in.valid && room
   soq.io.up.req.bits.addr := io.queryBase + (io.in.bits.q << 5)
@@ -61,7 +59,6 @@ class QueryFetch(p: MapmParams) extends Module {
     held(tail).y := io.in.bits.y
     held(tail).z := io.in.bits.z
     held(tail).q := io.in.bits.q
-    tail := Pick.next(tail, n)
   }
   soq.io.up.resp.ready := true.B
   private val rec = soq.io.up.resp.bits.data
@@ -74,9 +71,13 @@ class QueryFetch(p: MapmParams) extends Module {
   private val padding = (0 until 3).filter(_ => w < 32).map(c => rec(32 * c + 31, 32 * c + w)) :+ rec(127, 96)
   private val malformed = RegInit(false.B)
   when(soq.io.up.resp.fire && padding.map(_.orR).reduce(_ || _)) { malformed := true.B }
-  io.out.valid := valid(head) && arrived(head)
+  // Arrived queries leave round-robin from the slot after the last one out (records come back in
+  // any order; a late one does not hold back the others).
+  val rrNext = RegInit(0.U(Pick.bits(n).W))
+  private val (any, head) = Pick.roundRobin(valid.asUInt & arrived.asUInt, rrNext)
+  io.out.valid := any
   io.out.bits := held(head)
-  when(io.out.fire) { valid(head) := false.B; head := Pick.next(head, n) }
+  when(io.out.fire) { valid(head) := false.B; rrNext := Pick.next(head, n) }
 
   io.error := soq.io.protocolError || malformed
   io.idle := !valid.asUInt.orR
