@@ -31,9 +31,14 @@ object RenderCommand extends Command {
       @arg(doc = "number format: fp32, bf16, fp16, fp24 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
       @arg(doc = "memory latency in cycles") latency: Int = 100,
+      @arg(doc = "draw each request's latency from [latency, this] (0: fixed latency)") latencyMax: Int = 0,
+      @arg(doc = "probability of a gap in the query stream each cycle") queryGap: Double = 0,
+      @arg(doc = "probability that the memory refuses a request each cycle") reqStall: Double = 0,
+      @arg(doc = "probability that the memory holds back a ready response beat") respGap: Double = 0,
       @arg(doc = "memory bandwidth in bytes per cycle") bandwidth: Double = 14.0,
       @arg(doc = "clock for the GB/s figure, in GHz") clockGhz: Double = 1.5,
       @arg(doc = "seed of the memory's response reordering") seed: Long = 1,
+      @arg(doc = "threads of the Verilator model (a separate build; 1 is fastest on this design, see docs/harness.md)") simThreads: Int = 1,
       @arg(doc = "stop with FAIL after this many cycles (0: no limit)") maxCycles: Long = 0,
       @arg(doc = "write an FST waveform to this file (builds a traced harness)") wave: Option[String] = None,
       @arg(doc = "first cycle of the waveform") waveStart: Long = 0,
@@ -42,7 +47,8 @@ object RenderCommand extends Command {
       @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads
   ): Int = {
     val wall0 = System.nanoTime()
-    val opts = Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave.map(Paths.get(_).toAbsolutePath), waveStart, waveEnd)
+    val opts = Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave.map(Paths.get(_).toAbsolutePath), waveStart, waveEnd,
+      latencyMax, queryGap, reqStall, respGap, simThreads)
     val fmt0 = format.orElse(ModelRun.loadScene(scene).format).getOrElse(FloatFormat.fp32)
     val p = MapmParams.of(tsm, som, soa, fmt0, g)
     val prep = RtlRun.prepare(scene, Some(fmt0), g, out, threads)

@@ -57,7 +57,7 @@ object RtlRun {
     val t0 = System.nanoTime()
     val (sv, top) = MapmRtl.emit(p, log)
     val t1 = System.nanoTime()
-    val exe = Harness.build(sv, top, trace = opts.wave.isDefined, log)
+    val exe = Harness.build(sv, top, trace = opts.wave.isDefined, log, opts.simThreads)
     val t2 = System.nanoTime()
     val outcome = Harness.run(exe, prep.image, prep.expected, dir, opts, Some(s"RTL ${p.counts.label}"))
     val times = Seq("emit" -> (t1 - t0) / 1e9, "verilator build" -> (t2 - t1) / 1e9, "simulation" -> secs(t2))

@@ -13,7 +13,8 @@ import Args.FloatFormatReader
   * emitted, verilated and run with its cached builds). Every run is checked like `render`'s.
   *
   * Writes `<scene>-sweep.csv` (one row per configuration: cycles, SO/cycle, TS ops/cycle, speed-up
-  * over the first configuration, hit rate per cache, GB/s, wall time, result) and two bar charts
+  * over the first configuration, hit rate per cache, GB/s, simulation wall time and simulated cycles
+  * per second, result) and two bar charts
   * in the style of Figures 4.9 and 4.12: `<scene>-sweep-so-per-cycle.png` and
   * `<scene>-sweep-speedup.png`. */
 object SweepCommand extends Command {
@@ -40,6 +41,7 @@ object SweepCommand extends Command {
       @arg(doc = "memory bandwidth in bytes per cycle") bandwidth: Double = 14.0,
       @arg(doc = "clock for the GB/s figure, in GHz") clockGhz: Double = 1.5,
       @arg(doc = "seed of the memory's response reordering") seed: Long = 1,
+      @arg(doc = "threads of the Verilator model (a separate build; 1 is fastest on this design, see docs/harness.md)") simThreads: Int = 1,
       @arg(doc = "stop a run with FAIL after this many cycles (0: no limit)") maxCycles: Long = 0,
       @arg(doc = "output folder") out: String = "out",
       @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads
@@ -48,14 +50,15 @@ object SweepCommand extends Command {
     MapmError.check(list.nonEmpty, "sweep: no configurations given")
     val fmt = format.orElse(ModelRun.loadScene(scene).format).getOrElse(FloatFormat.fp32)
     val params = list.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g) }
-    val opts = Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz)
+    val opts = Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, simThreads = simThreads)
     val prep = RtlRun.prepare(scene, Some(fmt), g, out, threads)
     println(s"sweep of ${params.size} configurations on ${prep.config.file}: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops")
     val runs = params.map { p =>
       val dir = prep.work.resolve(s"sweep-${p.counts.tsm}-${p.counts.som}-${p.counts.soaPerSom}")
       val r = RtlRun.runConfig(prep, p, opts, dir, l => System.err.println(s"mapm: $l"))
       println(f"${p.counts.label}%-8s ${if (r.passed) "PASS" else "FAIL"} cycles ${r.stat("cycles").getOrElse(Double.NaN)}%.0f " +
-        f"SO/cycle ${r.stat("soPerCycle").getOrElse(Double.NaN)}%.3f${if (r.passed) "" else ": " + r.failure}")
+        f"SO/cycle ${r.stat("soPerCycle").getOrElse(Double.NaN)}%.3f TS ops/cycle ${r.stat("tsOpsPerCycle").getOrElse(Double.NaN)}%.3f " +
+        f"simulated ${r.stat("simulatedCyclesPerSecond").getOrElse(Double.NaN)}%.0f cycles/s${if (r.passed) "" else ": " + r.failure}")
       r
     }
     val base = runs.head.stat("cycles")
@@ -64,11 +67,12 @@ object SweepCommand extends Command {
       r.outcome.stats.flatMap(_.obj.get("caches")).flatMap(_.obj.get(c)).flatMap(_.obj.get("hitRate")).flatMap(_.numOpt)
     val speedups = runs.map(r => for (b <- base; c <- r.stat("cycles") if c > 0) yield b / c)
     val header = (Seq("config", "tsm", "som", "soa", "cycles", "so_per_cycle", "ts_ops_per_cycle", "speedup") ++
-      caches.map(c => s"hit_rate_$c") ++ Seq("gb_per_s", "sim_wall_s", "result")).mkString(",")
+      caches.map(c => s"hit_rate_$c") ++ Seq("gb_per_s", "sim_wall_s", "sim_cycles_per_s", "result")).mkString(",")
     val rows = runs.zip(speedups).map { case (r, sp) =>
       (Seq(r.p.counts.label, r.p.counts.tsm.toString, r.p.counts.som.toString, r.p.counts.soaPerSom.toString, cell(r.stat("cycles")),
         cell(r.stat("soPerCycle")), cell(r.stat("tsOpsPerCycle")), cell(sp)) ++ caches.map(c => cell(hitRate(r, c))) ++
-        Seq(cell(r.stat("gbPerSecond")), cell(r.stat("wallSeconds")), if (r.passed) "PASS" else "FAIL")).mkString(",")
+        Seq(cell(r.stat("gbPerSecond")), cell(r.stat("wallSeconds")), cell(r.stat("simulatedCyclesPerSecond")),
+          if (r.passed) "PASS" else "FAIL")).mkString(",")
     }
     val outDir = Paths.get(out)
     Files.createDirectories(outDir)

@@ -116,8 +116,10 @@ object Harness {
   }
 
   /** Builds (or finds in the cache) the harness for the emitted design in `svDir` whose top module
-    * is `top`; `trace` builds the FST-waveform variant. Returns the executable. */
-  def build(svDir: Path, top: String, trace: Boolean = false, log: String => Unit = _ => ()): Path = {
+    * is `top`; `trace` builds the FST-waveform variant, `threads` > 1 a multithreaded model
+    * (Verilator `--threads`). Returns the executable. */
+  def build(svDir: Path, top: String, trace: Boolean = false, log: String => Unit = _ => (), threads: Int = 1): Path = {
+    MapmError.check(threads >= 1 && threads <= 64, s"simulation threads must be 1..64, got $threads")
     val svs = svFiles(svDir)
     val topFile = svs.find(f => new String(Files.readAllBytes(f), UTF_8).contains(s"module $top")).getOrElse(
       MapmError.fail(s"$svDir: no file defines module $top"))
@@ -125,8 +127,8 @@ object Harness {
     MapmError.check(found == top, s"$topFile: expected top module $top, found $found")
     val header = portsHeader(top, ports)
     val hash = Verilator.hash((svs.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) ++
-      sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ header :+ s"trace=$trace"): _*)
-    val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}-$hash")
+      sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ header :+ s"trace=$trace threads=$threads"): _*)
+    val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}-$hash")
     val exe = dir.resolve("harness")
     if (Files.isExecutable(exe)) return exe
     Files.createDirectories(dir)
@@ -138,7 +140,7 @@ object Harness {
     log(s"verilating $top into $dir (cached for later runs) ...")
     val t0 = System.nanoTime()
     val flags = Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${dir.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
-      (if (trace) Seq("--trace-fst") else Seq.empty)
+      (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
     Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, dir, "harness", flags)
     log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     exe
@@ -163,10 +165,12 @@ object Harness {
   /** Options of one harness run (defaults as in docs/harness.md). `latencyMax` > `latency` draws each
     * request's latency uniformly from [latency, latencyMax]; `queryGap`, `reqStall` and `respGap` are
     * per-cycle probabilities of a gap in the query stream, of refusing a memory request and of
-    * holding back a response beat. */
+    * holding back a response beat. `simThreads` > 1 runs a multithreaded model. */
   final case class RunOptions(latency: Int = 100, bandwidth: Double = 14.0, seed: Long = 1, maxCycles: Long = 0,
                               clockGhz: Double = 1.5, wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue,
-                              latencyMax: Int = 0, queryGap: Double = 0, reqStall: Double = 0, respGap: Double = 0) {
+                              latencyMax: Int = 0, queryGap: Double = 0, reqStall: Double = 0, respGap: Double = 0,
+                              simThreads: Int = 1) {
+    MapmError.check(simThreads >= 1 && simThreads <= 64, s"--sim-threads must be 1..64, got $simThreads")
     MapmError.check(latency >= 0, s"--latency must be at least 0, got $latency")
     MapmError.check(latencyMax == 0 || latencyMax >= latency, s"--latency-max must be at least --latency, got $latencyMax")
     MapmError.check(bandwidth > 0, s"--bandwidth must be positive, got $bandwidth")

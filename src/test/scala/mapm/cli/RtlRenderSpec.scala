@@ -37,4 +37,19 @@ class RtlRenderSpec extends AnyFunSuite {
     assert(stats("tsOps").num == stats("modelTsOps").num)
     assert(Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.png")) && Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.pfm")))
   }
+
+  test("render --wave writes an FST of the chosen cycle window; --max-cycles fails naming the seed") {
+    assume(haveVerilator, "verilator is not on PATH: the RTL render test needs it")
+    val out = Paths.get("target/rtl-render-test/out-wave")
+    val wave = out.resolve("tiny.fst")
+    Files.createDirectories(out)
+    Files.deleteIfExists(wave)
+    assert(RenderCommand.render(scene = scene.toString, tsm = 1, som = 1, soa = 1, seed = 1, wave = Some(wave.toString),
+      waveStart = 100, waveEnd = 400, out = out.toString, threads = 2) == 0)
+    val bytes = Files.readAllBytes(wave)
+    assert(bytes.length > 1000, "an FST with the window's signal changes")
+    val e = intercept[mapm.MapmError](RenderCommand.render(scene = scene.toString, tsm = 1, som = 1, soa = 1, seed = 5, maxCycles = 500,
+      out = out.toString, threads = 2))
+    assert(e.getMessage.contains("FAIL seed=5: watchdog: --max-cycles 500 reached"), e.getMessage)
+  }
 }

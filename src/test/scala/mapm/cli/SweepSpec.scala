@@ -5,9 +5,31 @@ import java.nio.file.{Files, Paths}
 import mapm.MapmError
 import org.scalatest.funsuite.AnyFunSuite
 
-/** The sweep's configuration list and its bar charts (the RTL runs themselves are covered by
-  * RtlRenderSpec). */
+/** The sweep's configuration list, its bar charts, and a two-configuration sweep of a tiny frame
+  * through the RTL (the builds RtlRenderSpec also uses). */
 class SweepSpec extends AnyFunSuite {
+  test("sweep 1/1/1,2/1/2 of a tiny frame through the RTL: CSV rows, speed-up, charts") {
+    assume(sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator"))),
+      "verilator is not on PATH")
+    val dir = Paths.get("target/sweep-test")
+    Files.createDirectories(dir)
+    val obj = mapm.model.TestScenes.cornellObj.toAbsolutePath.toString
+    val scene = Files.write(dir.resolve("tiny.json"),
+      s"""{ "obj": "$obj", "camera": { "position": [278, 273, -530], "direction": [0, 0, 1], "up": [0, 1, 0], "fov": 39.3 },
+         |  "lights": [ { "type": "point", "position": [1, 25, 1], "power": [10000000, 10000000, 10000000] } ],
+         |  "width": 8, "height": 6, "finalGatherRays": 4, "photons": 200, "maxBounces": 3, "h": { "auto": 20 }, "seed": 3 }""".stripMargin
+        .getBytes("UTF-8"))
+    val out = dir.resolve("out")
+    assert(SweepCommand.sweep(scene = scene.toString, configs = Some("1/1/1,2/1/2"), out = out.toString, threads = 2) == 0)
+    val lines = new String(Files.readAllBytes(out.resolve("sweep-test-tiny-sweep.csv")), "UTF-8").linesIterator.toSeq
+    assert(lines.size == 3 && lines.head.startsWith("config,tsm,som,soa,cycles,so_per_cycle"))
+    val rows = lines.tail.map(_.split(",", -1))
+    assert(rows.map(_(0)) == Seq("1/1/1", "2/1/2") && rows.forall(_.last == "PASS"))
+    val cycles = rows.map(_(4).toDouble)
+    assert(rows.head(7).toDouble == 1.0 && math.abs(rows(1)(7).toDouble - cycles(0) / cycles(1)) < 1e-4, "speed-up = first's cycles / own")
+    assert(Files.size(out.resolve("sweep-test-tiny-sweep-so-per-cycle.png")) > 0 && Files.size(out.resolve("sweep-test-tiny-sweep-speedup.png")) > 0)
+  }
+
   test("configuration lists parse, bad entries are one clear error") {
     assert(SweepCommand.parseConfigs("1/1/2, 16/16/3,") == Seq((1, 1, 2), (16, 16, 3)))
     val e = intercept[MapmError](SweepCommand.parseConfigs("1/1/2,4/x/2"))

@@ -88,7 +88,7 @@ class MapmRtlSpec extends AnyFunSuite {
     // Three SOs per TS op from two TSMs against two SOAs: every reservation station fills and the
     // TS block stalls on them.
     assert(stats(1)("counters")("stallRsFull").num > 0)
-    info(s"Register-queue peaks ${peaks.mkString(", ")} (banks of 26 and 128); ${prep.model.tsOps} TS ops, ${prep.model.count} SOs")
+    info(s"Register-queue peaks ${peaks.mkString(", ")} (banks of 26 and ${MapmParams.of(2, 1, 2, FloatFormat.fp32, 3).queues.registerQueueDepth}); ${prep.model.tsOps} TS ops, ${prep.model.count} SOs")
   }
 
   test("edge cases: empty tree, one photon, one query") {
