@@ -64,11 +64,7 @@ class SoBlock(p: MapmParams) extends Module {
   io.idle := soms.map(_.io.idle).reduce(_ && _)
   io.error := l2.io.protocolError || soms.map(_.io.error).reduce(_ || _)
 
-  private def counter(events: Seq[Bool]): UInt = {
-    val c = RegInit(0.U(64.W))
-    c := c + PopCount(events)
-    c
-  }
+  import Pick.counter
   io.counters.soIssued := counter(soms.flatMap(_.io.issued))
   io.counters.soPassed := counter(io.out.map(o => o.valid && o.bits.cond))
   io.counters.sopL1Hits := Pick.sum(soms.flatMap(_.io.l1.map(_.hits)))

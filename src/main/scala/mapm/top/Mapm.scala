@@ -5,6 +5,7 @@ import chisel3.util._
 import mapm.memory.{MemArbiter, MemPort, MemPortParams}
 import mapm.shader.SoBlock
 import mapm.tsearch.{QueryFetch, TsBlock}
+import mapm.util.Pick
 
 /** The whole Multi-Accelerator for Photon Mapping (3.2, docs/mapm.md): the Tree Search block
   * ([[TsBlock]]: query stream, SOQ cache, Launcher, TSMs with TS L1s, TSAs, Nextnode and the
@@ -60,16 +61,11 @@ class Mapm(val p: MapmParams) extends Module {
   when(ts.io.error || so.io.error) { error := true.B }
   io.error := error
 
-  private def count(event: Bool, by: UInt = 1.U): UInt = {
-    val c = RegInit(0.U(64.W))
-    when(event) { c := c + by }
-    c
-  }
   val c = io.counters
   private val tc = ts.io.counters
   private val sc = so.io.counters
-  c.cycles := count(true.B)
-  c.queries := count(io.query.fire)
+  c.cycles := Pick.counter(Seq(true.B))
+  c.queries := Pick.counter(Seq(io.query.fire))
   c.tsOps := tc.tsOps
   c.soIssued := sc.soIssued
   c.soPassed := sc.soPassed
@@ -87,7 +83,7 @@ class Mapm(val p: MapmParams) extends Module {
   c.sopL1_misses := sc.sopL1Misses
   c.sopL2_hits := sc.sopL2Hits
   c.sopL2_misses := sc.sopL2Misses
-  c.bytesFetched := count(io.mem.resp.fire, p.memory.dataBytes.U)
+  c.bytesFetched := (Pick.counter(Seq(io.mem.resp.fire)) << log2Ceil(p.memory.dataBytes))(63, 0)
   c.rqPeak := tc.rqPeak
 }
 

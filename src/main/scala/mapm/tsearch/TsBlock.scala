@@ -95,11 +95,7 @@ class TsBlock(p: MapmParams) extends Module {
   io.error := fetch.io.error || l2.io.protocolError || tsms.map(_.io.error).reduce(_ || _)
 
   // Counters.
-  private def counter(events: Seq[Bool]): UInt = {
-    val c = RegInit(0.U(64.W))
-    c := c + PopCount(events)
-    c
-  }
+  import Pick.counter
   io.counters.tsOps := counter(tsms.map(_.io.events.tsOp))
   io.counters.stallNodeData := counter(tsms.map(_.io.events.stallNodeData))
   io.counters.stallRsFull := counter(tsms.map(_.io.events.stallRsFull))

@@ -37,4 +37,11 @@ object Pick {
     if (xs.isEmpty) 0.U
     else if (xs.size == 1) xs.head
     else { val (a, b) = xs.splitAt(xs.size / 2); sum(a) +& sum(b) }
+
+  /** A 64-bit counter that adds, every cycle, how many of `events` are high. */
+  def counter(events: Seq[Bool]): UInt = {
+    val c = RegInit(0.U(64.W))
+    c := c + PopCount(events)
+    c
+  }
 }
