@@ -77,6 +77,15 @@ final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends Shad
     out(0) = channel(f, pr, cr).bits; out(1) = channel(f, pg, cg).bits; out(2) = channel(f, pb, cb).bits
   }
 
+  /** Decodes the channels of [[shadeValues]] (the fast decoder of the format). */
+  private val codec = new FormatBits(format)
+
+  override def shadeValues(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                           bits: Array[Long], values: Array[Double]): Unit = {
+    shade(kernel, brdf, h, pr, pg, pb, cr, cg, cb, bits)
+    values(0) = codec.toDouble(bits(0)); values(1) = codec.toDouble(bits(1)); values(2) = codec.toDouble(bits(2))
+  }
+
   override def hasFlags: Boolean = true
 
   override def shadeFlags(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
