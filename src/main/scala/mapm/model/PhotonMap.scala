@@ -64,15 +64,17 @@ object PhotonMap {
       var i = 0
       while (i < n) {
         val k = tree.photon(i)
-        px(i) = format.encode(tree.x(i), s"photon $k x coordinate")
-        py(i) = format.encode(tree.y(i), s"photon $k y coordinate")
-        pz(i) = format.encode(tree.z(i), s"photon $k z coordinate")
+        // encodeOr on the common path; encode only to report a value the format cannot carry
+        var b = format.encodeOr(tree.x(i), -1L); px(i) = if (b != -1L) b else format.encode(tree.x(i), s"photon $k x coordinate")
+        b = format.encodeOr(tree.y(i), -1L); py(i) = if (b != -1L) b else format.encode(tree.y(i), s"photon $k y coordinate")
+        b = format.encodeOr(tree.z(i), -1L); pz(i) = if (b != -1L) b else format.encode(tree.z(i), s"photon $k z coordinate")
         val pw = photons(k).power
         var c = 0
         while (c < 3) {
           val v = pw(c)
-          MapmError.check(!v.isNaN && v >= 0, s"photon $k: power $pw must be non-negative")
-          power(c)(i) = format.encode(v, s"photon $k power")
+          if (v.isNaN || v < 0) MapmError.fail(s"photon $k: power $pw must be non-negative")
+          b = format.encodeOr(v, -1L)
+          power(c)(i) = if (b != -1L) b else format.encode(v, s"photon $k power")
           c += 1
         }
         split(i) = tree.axis(i) match { case 0 => px(i); case 1 => py(i); case _ => pz(i) }
@@ -126,17 +128,19 @@ object QuerySet {
     try {
       var i = 0
       while (i < n) {
-        qx(i) = format.encode(xs(i), s"query $i x coordinate")
-        qy(i) = format.encode(ys(i), s"query $i y coordinate")
-        qz(i) = format.encode(zs(i), s"query $i z coordinate")
+        // encodeOr on the common path; encode only to report a value the format cannot carry
+        var b = format.encodeOr(xs(i), -1L); qx(i) = if (b != -1L) b else format.encode(xs(i), s"query $i x coordinate")
+        b = format.encodeOr(ys(i), -1L); qy(i) = if (b != -1L) b else format.encode(ys(i), s"query $i y coordinate")
+        b = format.encodeOr(zs(i), -1L); qz(i) = if (b != -1L) b else format.encode(zs(i), s"query $i z coordinate")
         var c = 0
         while (c < 3) {
           val v = cs(c)(i)
-          MapmError.check(!v.isNaN && v >= 0, s"query $i: contribution ${queries.contribution(i)} must be non-negative")
-          contribution(c)(i) = format.encode(v, s"query $i contribution")
+          if (v.isNaN || v < 0) MapmError.fail(s"query $i: contribution ${queries.contribution(i)} must be non-negative")
+          b = format.encodeOr(v, -1L)
+          contribution(c)(i) = if (b != -1L) b else format.encode(v, s"query $i contribution")
           c += 1
         }
-        MapmError.check(queries.pixel(i) >= 0, s"query $i: pixel index ${queries.pixel(i)} is negative")
+        if (queries.pixel(i) < 0) MapmError.fail(s"query $i: pixel index ${queries.pixel(i)} is negative")
         pixel(i) = queries.pixel(i)
         i += 1
         if ((i & (chunk - 1)) == 0) bar.foreach(_.advance(chunk.toLong))
