@@ -103,9 +103,11 @@ object RoundedShadeArith {
   * Speed: formats with 23 fraction bits and at most 8 exponent bits (fp32) round through binary32
   * (`toFloat`, round to nearest even in hardware) whenever the result is a normal, finite value of
   * the format, and through the bit arithmetic of [[roundByBits]] otherwise (flush, overflow), which
-  * gives the same bits (see [[round]]). The shared t2 of the last (kernel, BRDF, h) is kept and
-  * reused while they repeat (one record behind an atomic reference: thread-safe, a thread that
-  * misses recomputes the same value). [[shadeValues]] hands the channel values to the engine
+  * gives the same bits (see [[round]]); fp32 inputs decode through `intBitsToFloat` when they are
+  * normal and finite (see [[decode]]). The shared t2 of the last (kernel, BRDF, h) is kept and
+  * reused while they repeat (one record behind an atomic reference, which starts as (0, 0, 0) with
+  * t2 = 0, the value [[prefix]] gives for a zero kernel: thread-safe, a thread that misses
+  * recomputes the same value). [[shadeValues]] hands the channel values to the engine
   * without packing them into bit patterns.
   */
 final class RoundedShadeArith private (
