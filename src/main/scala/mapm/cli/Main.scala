@@ -27,6 +27,7 @@ object Main {
     FormatCommand,
     KdtreeCommand,
     BenchSearchCommand,
+    BenchModelCommand,
     EmitCommand,
     EmitTsaCommand,
     TsaVectorsCommand,

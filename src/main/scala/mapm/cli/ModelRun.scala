@@ -14,10 +14,15 @@ import mapm.model._
   *  - `name-indirect.png`, `name-indirect.pfm`: the indirect light alone (what the accelerator computes);
   *  - `name-stats.json`: operation counts (Table 4.10), h, timings, and the PSNR of the format's
   *    indirect image against the float64 reference.
+  *
+  * Stage times ([[Result.times]], `stageSeconds` in the JSON): loading the scene file, the stages
+  * of [[Frame.prepare]], the two search-and-shade runs (the float64 one includes quantizing the
+  * queries to binary64), and writing the four images; `wallSeconds` covers all of it and the JSON.
   */
 object ModelRun {
+  /** @param searchCpuSeconds process CPU seconds (all threads) during the format's search and shade */
   final case class Result(frame: Frame, indirect: Array[Double], reference: Array[Double], stats: SearchStats,
-                          psnr: Double, times: StageTimes, files: Seq[Path])
+                          psnr: Double, times: StageTimes, files: Seq[Path], searchCpuSeconds: Option[Double])
 
   /** `scene.json` is named after its folder; any other file after itself. */
   def sceneName(scene: Path): String = {
@@ -39,14 +44,17 @@ object ModelRun {
     val config = loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
     val arith = ShadeArith.hardware(fmt, g) // checks the format before the frame is prepared
+    val loaded = System.nanoTime()
     val frame = Frame.prepare(config, fmt, threads)
     val t0 = System.nanoTime()
+    val cpu0 = ProcessCpu.seconds
     val hw = Render.run(frame.map, frame.querySet, frame.pixels, arith, threads, Some("search+shade"))
     val t1 = System.nanoTime()
+    val searchCpu = for (a <- cpu0; b <- ProcessCpu.seconds) yield b - a
     val refMap = PhotonMap.fromTree(frame.map.tree, frame.photons, FloatFormat.fp64, frame.h)
-    val ref = Render.run(refMap, QuerySet.build(frame.queries, FloatFormat.fp64), frame.pixels, ShadeArith.float64, threads)
+    val ref = Render.run(refMap, QuerySet.build(frame.queries, FloatFormat.fp64, Some("quantize queries (float64)")),
+      frame.pixels, ShadeArith.float64, threads, Some("search+shade (float64)"))
     val t2 = System.nanoTime()
-    val times = frame.times + ("search+shade (format)" -> (t1 - t0) / 1e9) + ("search+shade (float64)" -> (t2 - t1) / 1e9)
     val psnr = Metrics.psnr(hw.rgb, ref.rgb)
 
     val out = Paths.get(outDir)
@@ -63,6 +71,10 @@ object ModelRun {
       out.resolve(s"$name-indirect.pfm"), out.resolve(s"$name-stats.json"))
     ImageIO.writePng(files(0), full); ImageIO.writePfm(files(1), full)
     ImageIO.writePng(files(2), ind); ImageIO.writePfm(files(3), ind)
+    val t3 = System.nanoTime()
+    val times = StageTimes(("load scene" -> (loaded - wall0) / 1e9) +: frame.times.stages) +
+      ("search+shade (format)" -> (t1 - t0) / 1e9) + ("search+shade (float64)" -> (t2 - t1) / 1e9) +
+      ("write images" -> (t3 - t2) / 1e9)
     val wall = (System.nanoTime() - wall0) / 1e9
     val searchSecs = (t1 - t0) / 1e9
     val json = ujson.Obj(
@@ -73,6 +85,7 @@ object ModelRun {
       "shaderOps" -> hw.stats.shaderOps.toDouble, "shaderOpsPassingCond" -> hw.stats.shaderOpsPassing.toDouble,
       "treeDepth" -> hw.stats.treeDepth, "psnrIndirectVsFloat64" -> (if (psnr.isInfinite) ujson.Str("inf") else ujson.Num(psnr)),
       "shaderOpsPerSecond" -> (if (searchSecs > 0) hw.stats.shaderOps / searchSecs else 0.0),
+      "searchShadeCpuSeconds" -> searchCpu.map(ujson.Num(_)).getOrElse(ujson.Null),
       "threads" -> threads, "wallSeconds" -> wall,
       "stageSeconds" -> ujson.Obj.from(times.stages.map { case (k, v) => k -> ujson.Num(v) }))
     Files.write(files(4), ujson.write(json, indent = 2).getBytes("UTF-8"))
@@ -83,6 +96,6 @@ object ModelRun {
       println(times.stages.map { case (k, v) => f"$k $v%.2fs" }.mkString("time: ", ", ", f"; wall $wall%.2fs"))
       files.foreach(f => println(s"wrote $f"))
     }
-    Result(frame, hw.rgb, ref.rgb, hw.stats, psnr, times, files)
+    Result(frame, hw.rgb, ref.rgb, hw.stats, psnr, times, files, searchCpu)
   }
 }

@@ -77,6 +77,6 @@ object RtlRun {
   def reference(prep: Prepared, threads: Int): Array[Double] = {
     val f = prep.frame
     val refMap = PhotonMap.fromTree(f.map.tree, f.photons, FloatFormat.fp64, f.h)
-    Render.run(refMap, QuerySet.build(f.queries, FloatFormat.fp64), f.pixels, ShadeArith.float64, threads).rgb
+    Render.run(refMap, QuerySet.build(f.queries, FloatFormat.fp64, None), f.pixels, ShadeArith.float64, threads).rgb
   }
 }

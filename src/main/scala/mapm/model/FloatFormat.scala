@@ -66,11 +66,19 @@ final case class FloatFormat(expWidth: Int, manWidth: Int) {
   /** Rounds `d` to this format (nearest, ties to even; below the smallest normal flushes to a
     * signed zero). Returns None for NaN, infinity and values that overflow the format. */
   def tryEncode(d: Double): Option[Long] = {
-    if (d.isNaN || d.isInfinite) return None
+    val b = encodeOr(d, -1L)
+    if (b == -1L) None else Some(b)
+  }
+
+  /** [[tryEncode]] without an Option, for hot loops: the bit pattern, or `none` for NaN, infinity
+    * and values that overflow. Every pattern it returns is a finite value's, so -1 (bits beyond
+    * the width, or fp64's all-ones NaN) serves as `none`. */
+  def encodeOr(d: Double, none: Long): Long = {
+    if (d.isNaN || d.isInfinite) return none
     val raw = java.lang.Double.doubleToRawLongBits(d)
     val s = (raw >>> 63).toInt
     val de = ((raw >>> 52) & 0x7ff).toInt
-    if (de == 0) return Some(pack(s, 0, 0)) // zero or double denormal: flushed
+    if (de == 0) return pack(s, 0, 0) // zero or double denormal: flushed
     val frac52 = raw & ((1L << 52) - 1)
     val drop = 52 - manWidth
     var sig = (1L << 52 | frac52) >>> drop // 1.m with manWidth fraction bits
@@ -81,9 +89,9 @@ final case class FloatFormat(expWidth: Int, manWidth: Int) {
       if (rem > half || (rem == half && (sig & 1L) == 1L)) sig += 1
       if (sig >>> (manWidth + 1) != 0) { sig >>>= 1; e += 1 }
     }
-    if (e < minExp) Some(pack(s, 0, 0))
-    else if (e > maxExp) None
-    else Some(pack(s, e + bias, sig & manMask))
+    if (e < minExp) pack(s, 0, 0)
+    else if (e > maxExp) none
+    else pack(s, e + bias, sig & manMask)
   }
 
   /** Like [[tryEncode]] but a NaN, infinite or overflowing value is a [[MapmError]] naming `what`. */

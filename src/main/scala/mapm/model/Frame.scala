@@ -26,7 +26,7 @@ final case class Frame(
     format: FloatFormat,
     photons: Array[Photon],
     emittedPaths: Long,
-    queries: Array[QueryPoint],
+    queries: QueryPoints,
     h: Double,
     map: PhotonMap,
     querySet: QuerySet,
@@ -47,23 +47,26 @@ object Frame {
   }
 
   /** Runs the scene side of the model: triangle KD-tree, photon tracing, primary rays, final
-    * gather, direct light, the choice of h, and quantization to `format`. */
+    * gather, direct light, the photon KD-tree, the choice of h (on that tree), and quantization to
+    * `format`. The long stages draw progress bars ([[Progress]]). */
   def prepare(config: SceneConfig, format: FloatFormat, threads: Int = Parallel.defaultThreads): Frame = {
     val t = scala.collection.mutable.ArrayBuffer.empty[(String, Double)]
     val tree = timed("triangle kd-tree", t)(TriKdTree.build(config.scene))
-    val traced = timed("photon tracing", t)(
-      PhotonTracer.trace(tree, config.pointLights, config.photons, config.maxBounces, config.seed, threads))
+    val traced = timed("photon tracing", t)(PhotonTracer.trace(tree, config.pointLights, config.photons,
+      config.maxBounces, config.seed, threads, Some("photon tracing")))
     val primary = timed("primary rays", t)(PrimaryHits.trace(tree, config.camera, config.width, config.height, threads))
-    val queries = timed("final gather", t)(FinalGather.queries(tree, primary, config.finalGatherRays, config.seed, threads))
+    val queries = timed("final gather", t)(
+      FinalGather.gather(tree, primary, config.finalGatherRays, config.seed, threads, Some("final gather")))
     val direct = timed("direct light", t)(
       DirectLight.render(tree, primary, config.pointLights, config.directLightSamples, config.seed, threads))
     val box = config.scene.bounds
+    val photonTree = timed("photon kd-tree", t)(PhotonTree.build(traced.photons, box, Some("photon kd-tree")))
     val h = timed("choose h", t)(config.h match {
-      case KernelRadius.Fixed(v)  => v
-      case KernelRadius.Auto(k)   => KernelRadiusChooser.choose(traced.photons, box, queries, k)
+      case KernelRadius.Fixed(v) => v
+      case KernelRadius.Auto(k)  => KernelRadiusChooser.choose(photonTree, queries, k, 2048, Some("choose h"))
     })
-    val map = timed("photon kd-tree", t)(PhotonMap.build(traced.photons, box, format, h))
-    val qs = timed("quantize queries", t)(QuerySet.build(queries, format))
+    val map = timed("quantize photons", t)(PhotonMap.fromTree(photonTree, traced.photons, format, h, Some("quantize photons")))
+    val qs = timed("quantize queries", t)(QuerySet.build(queries, format, Some("quantize queries")))
     Frame(config, format, traced.photons, traced.emittedPaths, queries, h, map, qs, direct, StageTimes(t.toSeq))
   }
 }

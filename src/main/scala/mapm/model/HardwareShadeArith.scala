@@ -11,8 +11,10 @@ package mapm.model
   * kernel, a Lambertian BRDF, one h; see [[Shading]]): the last one computed is kept and reused
   * while its inputs repeat. With it, MUL2 (Q' × power) depends on the photon's power alone; its
   * products are kept per power value (up to [[HardwareShadeArith.Mul2Entries]] of them), so a
-  * photon met by many queries costs one MUL3 per channel. Thread-safe: the cache is one record
-  * behind a volatile field with a concurrent map (a thread that misses recomputes the same value).
+  * photon met by many queries costs one MUL3 per channel. Finished channels are kept too, per
+  * (power, contribution), in a direct-mapped table of [[HardwareShadeArith.DoneSlots]] entries, so a
+  * repeated pair costs one lookup. Thread-safe: the cache is one record behind a volatile field with
+  * a concurrent map and a table of immutable entries (a thread that misses recomputes the same value).
   *
   * [[condClearBounds]]: CondModel rounds the same five operations to nearest with flush to zero
   * as [[RoundedShadeArith]] does (each within a factor 1 -/+ u, flushed terms below 5 smallest
@@ -46,8 +48,21 @@ final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends Shad
   /** The shared part of the chain for (kernel, BRDF, h), from the cache when it repeats. */
   def front(kernel: Long, brdf: Long, h: Long): ShaderChainModel.Front = lookup(kernel, brdf, h).front
 
-  /** One channel through the cached front and MUL2 product. */
+  /** One channel: from the record's table of finished channels when (power, contribution) is
+    * there, else through the cached front and MUL2 product (and then into the table). */
   private def channel(c: Cached, power: Long, contrib: Long): ShaderChainModel.Result = {
+    val slot = HardwareShadeArith.slot(power, contrib)
+    val e = c.done(slot)
+    if (e != null && e.power == power && e.contrib == contrib) e.result
+    else {
+      val r = compute(c, power, contrib)
+      c.done(slot) = new HardwareShadeArith.Done(power, contrib, r)
+      r
+    }
+  }
+
+  /** One channel through the cached front and MUL2 product. */
+  private def compute(c: Cached, power: Long, contrib: Long): ShaderChainModel.Result = {
     var p2 = c.mul2.get(power)
     if (p2 == null) {
       p2 = chain.mul2(c.front, power)
@@ -77,6 +92,15 @@ final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends Shad
     out(0) = channel(f, pr, cr).bits; out(1) = channel(f, pg, cg).bits; out(2) = channel(f, pb, cb).bits
   }
 
+  /** Decodes the channels of [[shadeValues]] (the fast decoder of the format). */
+  private val codec = new FormatBits(format)
+
+  override def shadeValues(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                           bits: Array[Long], values: Array[Double]): Unit = {
+    shade(kernel, brdf, h, pr, pg, pb, cr, cg, cb, bits)
+    values(0) = codec.toDouble(bits(0)); values(1) = codec.toDouble(bits(1)); values(2) = codec.toDouble(bits(2))
+  }
+
   override def hasFlags: Boolean = true
 
   override def shadeFlags(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
@@ -92,7 +116,24 @@ object HardwareShadeArith {
   /** The most MUL2 products kept per (kernel, BRDF, h). */
   val Mul2Entries = 1 << 16
 
+  /** Slots of the table of finished channels per (kernel, BRDF, h) (a power of two). */
+  val DoneSlots: Int = 1 << 14
+
+  /** The slot of (power, contribution) in the table of finished channels (a multiplicative hash). */
+  private def slot(power: Long, contrib: Long): Int =
+    (((power * 0x9E3779B97F4A7C15L) ^ (contrib * 0xC2B2AE3D27D4EB4FL)) >>> (64 - 14)).toInt
+
+  /** A finished channel: the chain's result for (power, contribution) under one front. Immutable
+    * (final fields), so a thread that reads a slot another one is writing sees a whole entry, the
+    * old one or the new one, and checks its key. */
+  private final class Done(val power: Long, val contrib: Long, val result: ShaderChainModel.Result)
+
+  /** The cache of one (kernel, BRDF, h): the shared part of the chain, its MUL2 products per power,
+    * and a direct-mapped table of finished channels per (power, contribution): the chain is a pure
+    * function of its inputs, and a scene has few distinct photon powers and contributions (products
+    * of light powers, material colours and 1/N), so most channels of a frame repeat one already done. */
   private final class Cached(val kernel: Long, val brdf: Long, val h: Long, val front: ShaderChainModel.Front) {
     val mul2 = new java.util.concurrent.ConcurrentHashMap[java.lang.Long, DigitString]()
+    val done = new Array[Done](DoneSlots)
   }
 }

@@ -15,13 +15,23 @@ object KernelRadiusChooser {
              sampleSize: Int = 2048): Double = {
     MapmError.check(photons.nonEmpty, "h auto: there are no photons to choose h from")
     MapmError.check(queries.nonEmpty, "h auto: there are no query points to choose h from (did every ray miss?)")
-    MapmError.check(photonsPerQuery > 0 && photonsPerQuery <= photons.length,
-      s"h auto: target of $photonsPerQuery photons per query must be in (0, ${photons.length}] (the photon count)")
-    val tree = PhotonTree.build(photons, box)
+    choose(PhotonTree.build(photons, box), QueryPoints.of(queries), photonsPerQuery, sampleSize, None)
+  }
+
+  /** [[choose]] on a photon tree already built (the photon tree of 3.1.4 over the scene box,
+    * which the frame builds anyway) and the compact query points. `progress` labels a progress bar
+    * over the bisection steps when given. */
+  def choose(tree: PhotonTree, queries: QueryPoints, photonsPerQuery: Double, sampleSize: Int,
+             progress: Option[String]): Double = {
+    MapmError.check(tree.size > 0, "h auto: there are no photons to choose h from")
+    MapmError.check(queries.length > 0, "h auto: there are no query points to choose h from (did every ray miss?)")
+    MapmError.check(photonsPerQuery > 0 && photonsPerQuery <= tree.size,
+      s"h auto: target of $photonsPerQuery photons per query must be in (0, ${tree.size}] (the photon count)")
+    val box = tree.box
     val search = new SearchTree(NodeWord.all(tree), tree.split)
     val searcher = new TreeSearcher(search)
     val n = math.min(sampleSize, queries.length)
-    val sample = Array.tabulate(n)(i => queries((i.toLong * queries.length / n).toInt).position)
+    val sample = Array.tabulate(n)(i => queries.position((i.toLong * queries.length / n).toInt))
 
     def averageCount(h: Double): Double = {
       var total = 0L
@@ -42,9 +52,13 @@ object KernelRadiusChooser {
     val diagonal = math.max(box.extent.length, 1e-30)
     var lo = diagonal * 1e-9 // finds (almost surely) nothing
     var hi = diagonal * 2    // every query finds every photon
-    while (hi / lo > 1 + 1e-4) {
-      val mid = math.sqrt(lo * hi)
-      if (averageCount(mid) >= photonsPerQuery) hi = mid else lo = mid
+    val steps = math.ceil(math.log(math.log(hi / lo) / math.log1p(1e-4)) / math.log(2)).toLong
+    Progress.maybe(progress, steps) { bar =>
+      while (hi / lo > 1 + 1e-4) {
+        val mid = math.sqrt(lo * hi)
+        if (averageCount(mid) >= photonsPerQuery) hi = mid else lo = mid
+        bar.foreach(_.advance())
+      }
     }
     hi
   }

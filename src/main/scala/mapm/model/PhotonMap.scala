@@ -39,7 +39,11 @@ object PhotonMap {
   /** Quantizes `tree` (built over `photons`) to `format` with kernel radius `h`.
     * h must be finite and positive, and h, h^2 and the kernel 1/(pi h) must be normal numbers of
     * the format; powers must be finite and non-negative (a [[MapmError]] otherwise). */
-  def fromTree(tree: PhotonTree, photons: Array[Photon], format: FloatFormat, h: Double): PhotonMap = {
+  def fromTree(tree: PhotonTree, photons: Array[Photon], format: FloatFormat, h: Double): PhotonMap =
+    fromTree(tree, photons, format, h, None)
+
+  /** [[fromTree]] with a progress bar over the photons labelled `progress` when given. */
+  def fromTree(tree: PhotonTree, photons: Array[Photon], format: FloatFormat, h: Double, progress: Option[String]): PhotonMap = {
     MapmError.check(tree.size == photons.length, s"photon map: tree has ${tree.size} nodes for ${photons.length} photons")
     MapmError.check(!h.isNaN && !h.isInfinite && h > 0, s"kernel radius h = $h must be finite and positive")
     val hBits = format.encode(h, s"kernel radius h")
@@ -50,19 +54,37 @@ object PhotonMap {
     MapmError.check(!format.isZero(kernelBits), s"kernel 1/(pi h) for h = $h is below the smallest normal number of format $format")
     val brdfBits = format.encode(Shading.brdf, "BRDF 1/pi")
     val n = tree.size
-    def coord(c: Array[Double], axisName: String): Array[Long] =
-      Array.tabulate(n)(i => format.encode(c(i), s"photon ${tree.photon(i)} $axisName coordinate"))
-    val px = coord(tree.x, "x"); val py = coord(tree.y, "y"); val pz = coord(tree.z, "z")
-    val power = Array.tabulate(3) { c =>
-      Array.tabulate(n) { i =>
+    val px = new Array[Long](n); val py = new Array[Long](n); val pz = new Array[Long](n)
+    val power = Array.fill(3)(new Array[Long](n))
+    val split = new Array[Long](n)
+    val splitValue = new Array[Double](n)
+    val codec = new FormatBits(format)
+    val chunk = 1 << 16
+    Progress.maybe(progress, n.toLong) { bar =>
+      var i = 0
+      while (i < n) {
         val k = tree.photon(i)
-        val v = photons(k).power(c)
-        MapmError.check(!v.isNaN && v >= 0, s"photon $k: power ${photons(k).power} must be non-negative")
-        format.encode(v, s"photon $k power")
+        // encodeOr on the common path; encode only to report a value the format cannot carry
+        var b = format.encodeOr(tree.x(i), -1L); px(i) = if (b != -1L) b else format.encode(tree.x(i), s"photon $k x coordinate")
+        b = format.encodeOr(tree.y(i), -1L); py(i) = if (b != -1L) b else format.encode(tree.y(i), s"photon $k y coordinate")
+        b = format.encodeOr(tree.z(i), -1L); pz(i) = if (b != -1L) b else format.encode(tree.z(i), s"photon $k z coordinate")
+        val pw = photons(k).power
+        var c = 0
+        while (c < 3) {
+          val v = pw(c)
+          if (v.isNaN || v < 0) MapmError.fail(s"photon $k: power $pw must be non-negative")
+          b = format.encodeOr(v, -1L)
+          power(c)(i) = if (b != -1L) b else format.encode(v, s"photon $k power")
+          c += 1
+        }
+        split(i) = tree.axis(i) match { case 0 => px(i); case 1 => py(i); case _ => pz(i) }
+        splitValue(i) = codec.toDouble(split(i))
+        i += 1
+        if ((i & (chunk - 1)) == 0) bar.foreach(_.advance(chunk.toLong))
       }
+      bar.foreach(_.advance((n & (chunk - 1)).toLong))
     }
-    val split = Array.tabulate(n) { i => tree.axis(i) match { case 0 => px(i); case 1 => py(i); case _ => pz(i) } }
-    val search = new SearchTree(NodeWord.all(tree), split.map(format.decode))
+    val search = new SearchTree(NodeWord.all(tree), splitValue)
     new PhotonMap(format, tree, hBits, px, py, pz, power, Array.fill(n)(kernelBits), Array.fill(n)(brdfBits), split, search)
   }
 }
@@ -82,29 +104,49 @@ final class QuerySet private (
     val pixel: Array[Int]
 ) {
   def size: Int = pixel.length
-  val x: Array[Double] = qx.map(format.decode)
-  val y: Array[Double] = qy.map(format.decode)
-  val z: Array[Double] = qz.map(format.decode)
+  private val codec = new FormatBits(format)
+  val x: Array[Double] = qx.map(codec.toDouble)
+  val y: Array[Double] = qy.map(codec.toDouble)
+  val z: Array[Double] = qz.map(codec.toDouble)
 }
 
 object QuerySet {
   /** Quantizes `queries` to `format`. Positions must be finite, contributions finite and
     * non-negative, pixels non-negative (a [[MapmError]] otherwise). */
-  def build(queries: Array[QueryPoint], format: FloatFormat): QuerySet = {
+  def build(queries: Array[QueryPoint], format: FloatFormat): QuerySet = build(QueryPoints.of(queries), format, None)
+
+  /** [[build]] from the compact [[QueryPoints]]; `progress` labels a progress bar when given. */
+  def build(queries: QueryPoints, format: FloatFormat, progress: Option[String]): QuerySet = {
     val n = queries.length
-    def coord(axis: Int, name: String): Array[Long] =
-      Array.tabulate(n)(i => format.encode(queries(i).position(axis), s"query $i $name coordinate"))
-    val contribution = Array.tabulate(3) { c =>
-      Array.tabulate(n) { i =>
-        val v = queries(i).contribution(c)
-        MapmError.check(!v.isNaN && v >= 0, s"query $i: contribution ${queries(i).contribution} must be non-negative")
-        format.encode(v, s"query $i contribution")
+    val qx = new Array[Long](n); val qy = new Array[Long](n); val qz = new Array[Long](n)
+    val contribution = Array.fill(3)(new Array[Long](n))
+    val pixel = new Array[Int](n)
+    val bar = progress.map(new Progress(_, n.toLong))
+    val chunk = 1 << 16
+    val xs = queries.x; val ys = queries.y; val zs = queries.z
+    val cs = Array(queries.cr, queries.cg, queries.cb)
+    try {
+      var i = 0
+      while (i < n) {
+        // encodeOr on the common path; encode only to report a value the format cannot carry
+        var b = format.encodeOr(xs(i), -1L); qx(i) = if (b != -1L) b else format.encode(xs(i), s"query $i x coordinate")
+        b = format.encodeOr(ys(i), -1L); qy(i) = if (b != -1L) b else format.encode(ys(i), s"query $i y coordinate")
+        b = format.encodeOr(zs(i), -1L); qz(i) = if (b != -1L) b else format.encode(zs(i), s"query $i z coordinate")
+        var c = 0
+        while (c < 3) {
+          val v = cs(c)(i)
+          if (v.isNaN || v < 0) MapmError.fail(s"query $i: contribution ${queries.contribution(i)} must be non-negative")
+          b = format.encodeOr(v, -1L)
+          contribution(c)(i) = if (b != -1L) b else format.encode(v, s"query $i contribution")
+          c += 1
+        }
+        if (queries.pixel(i) < 0) MapmError.fail(s"query $i: pixel index ${queries.pixel(i)} is negative")
+        pixel(i) = queries.pixel(i)
+        i += 1
+        if ((i & (chunk - 1)) == 0) bar.foreach(_.advance(chunk.toLong))
       }
-    }
-    val pixel = Array.tabulate(n) { i =>
-      MapmError.check(queries(i).pixel >= 0, s"query $i: pixel index ${queries(i).pixel} is negative")
-      queries(i).pixel
-    }
-    new QuerySet(format, coord(0, "x"), coord(1, "y"), coord(2, "z"), contribution, pixel)
+      bar.foreach(_.advance((n & (chunk - 1)).toLong))
+    } finally bar.foreach(_.finish())
+    new QuerySet(format, qx, qy, qz, contribution, pixel)
   }
 }

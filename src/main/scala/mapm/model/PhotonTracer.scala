@@ -20,7 +20,8 @@ import mapm.MapmError
   * Paths are traced until exactly `photons` photons are stored (the last path is cut off there); if
   * that took `E` paths, every photon's power is divided by `E`, so the photons together carry the
   * lights' total power once. Path k draws from its own random stream (seed, k), so the photons
-  * depend only on the seed, never on the thread count.
+  * depend only on the seed, never on the thread count. `progress` labels a progress bar over the
+  * paths traced when given.
   */
 object PhotonTracer {
   /** @param photons      the stored photons, in path order
@@ -29,7 +30,7 @@ object PhotonTracer {
 
   /** Traces photons into `tree`'s scene from `pointLights` and its emissive triangles. */
   def trace(tree: TriKdTree, pointLights: Seq[PointLight], photons: Int, maxBounces: Int, seed: Long,
-            threads: Int = Parallel.defaultThreads): Result = {
+            threads: Int = Parallel.defaultThreads, progress: Option[String] = None): Result = {
     MapmError.check(photons >= 0, s"photon count must be >= 0, got $photons")
     MapmError.check(maxBounces >= 1, s"maxBounces must be >= 1, got $maxBounces")
     if (photons == 0) return Result(Array.empty, 0)
@@ -90,14 +91,17 @@ object PhotonTracer {
     val maxPaths = math.max(1000000L, 100L * photons)
     var next = 0L
     var emitted = 0L
-    while (stored.size < photons) {
+    // a bar over the paths traced; each batch adds its paths to the total
+    val bar = progress.map(new Progress(_, 0L))
+    try while (stored.size < photons) {
       MapmError.check(next < maxPaths,
         s"photon tracing stored only ${stored.size} of $photons photons in $next paths: the lights hardly reach the geometry")
       val perPath = if (next == 0) 1.0 else math.max(1e-4, stored.size.toDouble / next) // photons per path so far
       val batch = math.min(math.min(maxPaths - next, 1L << 20), ((photons - stored.size) / perPath * 1.05).toLong + 64).toInt
       val results = new Array[Array[Photon]](batch)
       val base = next
-      Parallel.forRange(batch, threads) { k => results(k) = path(base + k) }
+      bar.foreach(_.extend(batch.toLong))
+      Parallel.forRange(batch, threads, progress = bar) { k => results(k) = path(base + k) }
       var k = 0
       while (k < batch && stored.size < photons) {
         val r = results(k)
@@ -106,7 +110,7 @@ object PhotonTracer {
         k += 1
       }
       next += batch
-    }
+    } finally bar.foreach(_.finish())
     val scale = 1.0 / emitted
     Result(stored.iterator.map(p => p.copy(power = p.power * scale)).toArray, emitted)
   }

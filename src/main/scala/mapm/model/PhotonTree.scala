@@ -68,9 +68,13 @@ object PhotonTree {
 
   def build(photons: Array[Photon], box: Box): PhotonTree = build(photons.map(_.position), box)
 
+  /** [[build]] with a progress bar over the nodes labelled `progress` when given. */
+  def build(photons: Array[Photon], box: Box, progress: Option[String]): PhotonTree =
+    Progress.maybe(progress, photons.length.toLong)(bar => build(photons.map(_.position), box, bar))
+
   /** Builds the tree over `positions` inside the root box `box`. Every position must be finite and
-    * lie inside the box (a [[MapmError]] otherwise). */
-  def build(positions: Array[Vec3], box: Box): PhotonTree = {
+    * lie inside the box (a [[MapmError]] otherwise). `bar`, when given, advances by one per node. */
+  def build(positions: Array[Vec3], box: Box, bar: Option[Progress] = None): PhotonTree = {
     val n = positions.length
     MapmError.check(box.lo.isFinite && box.hi.isFinite, s"photon tree: box $box is not finite")
     MapmError.check(box.lo.x <= box.hi.x && box.lo.y <= box.hi.y && box.lo.z <= box.hi.z, s"photon tree: box $box has lo > hi")
@@ -105,6 +109,7 @@ object PhotonTree {
       t.axis(node) = a.toByte
       t.split(node) = s
       t.depth(node) = d
+      bar.foreach(_.advance())
       val nLeft = mid - from
       val nRight = until - mid - 1
       if (nLeft > 0) {

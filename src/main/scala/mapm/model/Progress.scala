@@ -5,7 +5,8 @@ package mapm.model
   * Nothing is drawn for the first second, nor when stderr is not a terminal unless
   * MAPM_PROGRESS=1; MAPM_PROGRESS=0 turns it off. Thread-safe: workers call [[advance]].
   */
-final class Progress(label: String, total: Long) {
+final class Progress(label: String, total0: Long) {
+  @volatile private var total = total0
   private val start = System.nanoTime()
   private val done = new java.util.concurrent.atomic.AtomicLong(0)
   @volatile private var lastDraw = 0L
@@ -35,6 +36,9 @@ final class Progress(label: String, total: Long) {
     drawn = true
   }
 
+  /** Raises the total by `n` steps, for a stage whose size shows as it goes. */
+  def extend(n: Long): Unit = synchronized { total += n }
+
   /** Ends the bar (a final full line if one was drawn). */
   def finish(): Unit = if (drawn) synchronized { draw(done.get, System.nanoTime()); System.err.println() }
 }
@@ -44,5 +48,12 @@ object Progress {
   def apply[T](label: String, total: Long)(body: Progress => T): T = {
     val p = new Progress(label, total)
     try body(p) finally p.finish()
+  }
+
+  /** Runs `body` with a bar over `total` steps when `label` is given (None otherwise), and
+    * finishes it. */
+  def maybe[T](label: Option[String], total: Long)(body: Option[Progress] => T): T = {
+    val p = label.map(new Progress(_, total))
+    try body(p) finally p.foreach(_.finish())
   }
 }

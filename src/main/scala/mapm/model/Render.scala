@@ -68,8 +68,7 @@ object Render {
     val chunk = 256
     val bar = progress.map(new Progress(_, nq.toLong))
     val photons = new Photons(map)
-    val codec = new FormatBits(map.format)
-    val workers = Array.fill(threads)(new Worker(map, photons, queries, arith, sums, new TreeSearcher(map.search), codec))
+    val workers = Array.fill(threads)(new Worker(map, photons, queries, arith, sums, new TreeSearcher(map.search)))
     val ts = workers.map { w =>
       new Thread(() => {
         var start = next.getAndAdd(chunk)
@@ -145,7 +144,7 @@ object Render {
     * relative 1e-15 (plus underflow, below 1e-300) of the exact one, far inside the 1e-12 margin.
     */
   private final class Worker(map: PhotonMap, photons: Photons, queries: QuerySet, arith: ShadeArith,
-                             sums: Array[Double], searcher: TreeSearcher, codec: FormatBits) {
+                             sums: Array[Double], searcher: TreeSearcher) {
     var tsOps = 0L
     var soOps = 0L
     var passing = 0L
@@ -155,10 +154,11 @@ object Render {
 
     /** Runs queries order(from until until). */
     def runRange(order: Array[Int], from: Int, until: Int): Unit = {
-      val searcher = this.searcher; val codec = this.codec; val arith = this.arith
+      val searcher = this.searcher; val arith = this.arith
       var passed = this.passed; var fields = this.fields
       val pos = photons.value; val posBits = photons.bits; val rec = photons.shade
       val out = new Array[Long](3)
+      val vals = new Array[Double](3)
       var ts = 0L; var sos = 0L; var pass = 0L
       val h = map.h; val hv = map.hValue
       val (lo, hi) = arith.condClearBounds(h)
@@ -186,8 +186,9 @@ object Render {
           val ex = x - pos(o); val ey = y - pos(o + 1); val ez = z - pos(o + 2)
           val e2 = ex * ex + ey * ey + ez * ez
           val clearIn = e2 * (1 + 1e-12) + 1e-300 < lo
+          // `|`, not `||`: whether the SO passes must not steer a branch (it would mispredict)
           val ok =
-            if (clearIn || e2 * (1 - 1e-12) > hi) clearIn
+            if (clearIn | e2 * (1 - 1e-12) > hi) clearIn
             else arith.cond(qxs(q), qys(q), qzs(q), posBits(o), posBits(o + 1), posBits(o + 2), h)
           passed(m) = i
           m += (if (ok) 1 else 0)
@@ -207,8 +208,8 @@ object Render {
         j = 0
         while (j < m) {
           val d = 5 * j
-          arith.shade(fields(d + 3), fields(d + 4), h, fields(d), fields(d + 1), fields(d + 2), cr, cg, cb, out)
-          r += codec.toDouble(out(0)); g += codec.toDouble(out(1)); b += codec.toDouble(out(2))
+          arith.shadeValues(fields(d + 3), fields(d + 4), h, fields(d), fields(d + 1), fields(d + 2), cr, cg, cb, out, vals)
+          r += vals(0); g += vals(1); b += vals(2)
           j += 1
         }
         pass += m
@@ -291,6 +292,7 @@ object Render {
 
     {
       val out = new Array[Long](3)
+      val vals = new Array[Double](3)
       val fl = new Array[Int](3)
       val withFlags = arith.hasFlags
       val h = map.h

@@ -80,11 +80,16 @@ object Parallel {
 
   /** Calls `body(i)` for every i in [0, n) on `threads` threads (chunks taken in turn from a
     * shared counter). `body` must write its result into a slot of its own; the first exception
-    * thrown by any worker is rethrown here. */
-  def forRange(n: Int, threads: Int, chunk: Int = 64)(body: Int => Unit): Unit = {
+    * thrown by any worker is rethrown here. `progress`, when given, advances by each finished chunk. */
+  def forRange(n: Int, threads: Int, chunk: Int = 64, progress: Option[Progress] = None)(body: Int => Unit): Unit = {
     require(threads >= 1, s"threads must be >= 1, got $threads")
     val workers = math.min(threads, (n + chunk - 1) / chunk)
-    if (workers <= 1) { var i = 0; while (i < n) { body(i); i += 1 }; return }
+    if (workers <= 1) {
+      var i = 0
+      while (i < n) { body(i); i += 1; if (i % chunk == 0) progress.foreach(_.advance(chunk.toLong)) }
+      progress.foreach(_.advance((n % chunk).toLong))
+      return
+    }
     val next = new java.util.concurrent.atomic.AtomicInteger(0)
     val failure = new java.util.concurrent.atomic.AtomicReference[Throwable](null)
     val ts = Array.tabulate(workers) { _ =>
@@ -95,6 +100,7 @@ object Parallel {
             val end = math.min(n, start + chunk)
             var i = start
             while (i < end) { body(i); i += 1 }
+            progress.foreach(_.advance((end - start).toLong))
             start = next.getAndAdd(chunk)
           }
         } catch { case t: Throwable => failure.compareAndSet(null, t) }

@@ -24,6 +24,16 @@ trait ShadeArith {
             out: Array[Long]): Unit = {
     out(0) = color(kernel, brdf, h, pr, cr); out(1) = color(kernel, brdf, h, pg, cg); out(2) = color(kernel, brdf, h, pb, cb)
   }
+  /** [[shade]] with the three channels as the values of their bit patterns (the doubles that hold
+    * them exactly, as [[FloatFormat.decode]] reads them) into values(0), values(1), values(2), for a
+    * caller that adds them up. `bits` is scratch space of at least three slots; what it holds
+    * afterwards is unspecified. The default shades into `bits` and decodes; an implementation that
+    * has the values at hand may skip the bit patterns. */
+  def shadeValues(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                  bits: Array[Long], values: Array[Double]): Unit = {
+    shade(kernel, brdf, h, pr, pg, pb, cr, cg, cb, bits)
+    values(0) = format.decode(bits(0)); values(1) = format.decode(bits(1)); values(2) = format.decode(bits(2))
+  }
   /** Bounds (lo, hi) on the EXACT squared distance d2 = |q - p|^2 (of the format values) for radius
     * h: [[cond]] is true whenever d2 < lo and false whenever d2 > hi. [[Render]] decides those clear
     * cases with plain double arithmetic and calls [[cond]] only in between. The default promises
@@ -48,6 +58,13 @@ object ShadeArith {
 }
 
 object RoundedShadeArith {
+  /** The shared part t2 = R(R(kernel * BRDF) / h) of the last (kernel, BRDF, h) shaded. */
+  private final class Prefix(val kernel: Long, val brdf: Long, val h: Long, val t2: Double)
+
+  /** Whether [[RoundedShadeArith.round]] may round through binary32 (`Double.toFloat`): for
+    * formats with binary32's 23 fraction bits and an exponent range inside binary32's. */
+  def roundsViaFloat(format: FloatFormat): Boolean = format.manWidth == 23 && format.expWidth <= 8
+
   /** `format` when the rounded path can do it exactly (see [[RoundedShadeArith]]), else a [[MapmError]]. */
   def checked(format: FloatFormat): FloatFormat = {
     MapmError.check(format == FloatFormat.fp64 || (2 * (format.manWidth + 1) + 2 <= 53 && format.expWidth <= 10),
@@ -82,6 +99,16 @@ object RoundedShadeArith {
   * (Figueroa's condition for +, -, *, /), i.e. manWidth <= 24, and when binary64's exponent range
   * covers every product and quotient of two format values, i.e. expWidth <= 10. fp64 itself is
   * allowed: its operations round once, natively. Other formats are a [[MapmError]].
+  *
+  * Speed: formats with 23 fraction bits and at most 8 exponent bits (fp32) round through binary32
+  * (`toFloat`, round to nearest even in hardware) whenever the result is a normal, finite value of
+  * the format, and through the bit arithmetic of [[roundByBits]] otherwise (flush, overflow), which
+  * gives the same bits (see [[round]]); fp32 inputs decode through `intBitsToFloat` when they are
+  * normal and finite (see [[decode]]). The shared t2 of the last (kernel, BRDF, h) is kept and
+  * reused while they repeat (one record behind an atomic reference, which starts as (0, 0, 0) with
+  * t2 = 0, the value [[prefix]] gives for a zero kernel: thread-safe, a thread that misses
+  * recomputes the same value). [[shadeValues]] hands the channel values to the engine
+  * without packing them into bit patterns.
   */
 final class RoundedShadeArith private (
     val format: FloatFormat,
@@ -89,6 +116,8 @@ final class RoundedShadeArith private (
     // -Xcheckinit accessors, which keep the JIT from inlining the per-operation code).
     codec: FormatBits,
     native: Boolean,
+    viaFloat: Boolean,
+    binary32: Boolean,
     drop: Int,
     dropMask: Long,
     halfMinus1: Long,
@@ -98,18 +127,36 @@ final class RoundedShadeArith private (
     signBit: Long,
     condHi: Double,
     condLo: Double,
-    condAbs: Double
+    condAbs: Double,
+    last: java.util.concurrent.atomic.AtomicReference[RoundedShadeArith.Prefix]
 ) extends ShadeArith {
   def this(format: FloatFormat) = this(RoundedShadeArith.checked(format), new FormatBits(format), format == FloatFormat.fp64,
+    RoundedShadeArith.roundsViaFloat(format), format == FloatFormat.fp32,
     52 - format.manWidth, (1L << (52 - format.manWidth)) - 1, (1L << (52 - format.manWidth)) / 2 - 1 max 0L,
     format.minNormal, format.maxFinite, format.pack(0, format.expMax - 1, format.manMask), 1L << (format.width - 1),
     math.pow(1 + math.pow(2, -format.manWidth - 1), 6) * (1 + 1e-12),
     math.pow(1 - math.pow(2, -format.manWidth - 1), 6) * (1 - 1e-12),
-    8 * format.minNormal)
+    8 * format.minNormal, new java.util.concurrent.atomic.AtomicReference(new RoundedShadeArith.Prefix(0L, 0L, 0L, 0.0)))
 
   /** `d` rounded to the format: nearest even, flushed to a signed zero below the smallest normal,
-    * an infinity of the same sign above the largest finite value. */
-  def round(d: Double): Double = {
+    * an infinity of the same sign above the largest finite value; bit for bit [[roundByBits]].
+    *
+    * Through binary32 when [[RoundedShadeArith.roundsViaFloat]]: if f = `d.toFloat` (nearest even to
+    * 24 significant bits wherever |d| is a binary32 normal) lies strictly above the format's smallest
+    * normal and at most its largest finite value, then so does d (rounding is monotone and both
+    * bounds are binary32 values), d is a binary32 normal, and f is what [[roundByBits]] gives. Any
+    * other f (at or below the smallest normal, beyond the largest finite value, an infinity, NaN)
+    * goes to [[roundByBits]]. */
+  def round(d: Double): Double =
+    if (viaFloat) {
+      val f = d.toFloat.toDouble
+      val a = java.lang.Math.abs(f)
+      if (a > minNormal && a <= maxFinite) f else roundByBits(d)
+    } else roundByBits(d)
+
+  /** [[round]] by bit arithmetic on the binary64 pattern: the mantissa rounded to the format's width
+    * (nearest even; a carry moves into the exponent), then flush or overflow by magnitude. */
+  def roundByBits(d: Double): Double = {
     var r = d
     if (!native) {
       val b = java.lang.Double.doubleToRawLongBits(d)
@@ -139,13 +186,45 @@ final class RoundedShadeArith private (
 
   /** t2 = R(R(kernel * BRDF) / h), the part shared by the three channels; 0 when a factor is 0. */
   private def prefix(kernel: Long, brdf: Long, h: Long): Double = {
-    val k = codec.toDouble(kernel); val b = codec.toDouble(brdf)
-    if (k == 0 || b == 0) 0.0 else round(round(k * b) / codec.toDouble(h))
+    val k = decode(kernel); val b = decode(brdf)
+    if (k == 0 || b == 0) 0.0 else round(round(k * b) / decode(h))
+  }
+
+  /** [[prefix]] through the one-record cache of the last (kernel, BRDF, h). */
+  private def cachedPrefix(kernel: Long, brdf: Long, h: Long): Double = {
+    val c = last.get
+    if (c.kernel == kernel && c.brdf == brdf && c.h == h) c.t2
+    else {
+      val t2 = prefix(kernel, brdf, h)
+      last.set(new RoundedShadeArith.Prefix(kernel, brdf, h, t2))
+      t2
+    }
+  }
+
+  /** The value of a bit pattern, as [[FormatBits.toDouble]] reads it. For fp32, whose patterns are
+    * binary32's, through `intBitsToFloat` when that gives a normal, finite value (binary32 and fp32
+    * agree on those); zero and denormal fields (which read as zero here), infinities and NaNs take
+    * the general decoder. */
+  def decode(bits: Long): Double =
+    if (binary32) {
+      val f = java.lang.Float.intBitsToFloat(bits.toInt)
+      val a = java.lang.Math.abs(f)
+      if (a >= java.lang.Float.MIN_NORMAL && a <= java.lang.Float.MAX_VALUE) f.toDouble else codec.toDouble(bits)
+    } else codec.toDouble(bits)
+
+  /** The value of [[finish]]'s bit pattern: 0.0, the signed largest finite value, or the result. */
+  private def finishValue(t2: Double, power: Long, contrib: Long): Double = {
+    val p = decode(power); val c = decode(contrib)
+    if (t2 == 0 || p == 0 || c == 0) return 0.0
+    val r = round(round(t2 * p) * c)
+    if (r == 0) 0.0
+    else if (r.isInfinite) java.lang.Math.copySign(maxFinite, r)
+    else r
   }
 
   /** R(R(t2 * power) * contribution) with the output rules (zero, saturation). */
   private def finish(t2: Double, power: Long, contrib: Long): Long = {
-    val p = codec.toDouble(power); val c = codec.toDouble(contrib)
+    val p = decode(power); val c = decode(contrib)
     if (t2 == 0 || p == 0 || c == 0) return 0L
     val r = round(round(t2 * p) * c)
     if (r == 0) 0L
@@ -158,8 +237,14 @@ final class RoundedShadeArith private (
 
   override def shade(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
                      out: Array[Long]): Unit = {
-    val t2 = prefix(kernel, brdf, h)
+    val t2 = cachedPrefix(kernel, brdf, h)
     out(0) = finish(t2, pr, cr); out(1) = finish(t2, pg, cg); out(2) = finish(t2, pb, cb)
+  }
+
+  override def shadeValues(kernel: Long, brdf: Long, h: Long, pr: Long, pg: Long, pb: Long, cr: Long, cg: Long, cb: Long,
+                           bits: Array[Long], values: Array[Double]): Unit = {
+    val t2 = cachedPrefix(kernel, brdf, h)
+    values(0) = finishValue(t2, pr, cr); values(1) = finishValue(t2, pg, cg); values(2) = finishValue(t2, pb, cb)
   }
 }
 

@@ -110,16 +110,26 @@ final class SearchTree(words: Array[Int], splits: Array[Double]) {
   */
 final class TreeSearcher(tree: SearchTree) {
   /** Visited nodes in order; doubles as the FIFO queue of pending searches (every node is queued at
-    * most once per query, so the array never overflows). */
-  val visited: Array[Int] = new Array[Int](tree.size)
-  /** Nodes that got an SO, in issue order (at most one SO per node per query). */
-  val so: Array[Int] = new Array[Int](tree.size)
+    * most once per query). One slot more than the tree has nodes: the search writes each candidate
+    * child unconditionally and only advances the tail when it is really queued. */
+  val visited: Array[Int] = new Array[Int](tree.size + 1)
+  /** Nodes that got an SO, in issue order (at most one SO per node per query; one spare slot, as
+    * for `visited`). */
+  val so: Array[Int] = new Array[Int](tree.size + 1)
   var tsCount: Int = 0
   var soCount: Int = 0
+  /** The query's coordinates by axis, so that a node's axis selects p by a load, not a branch. */
+  private val coord = new Array[Double](3)
 
-  /** Searches the tree for the query at (qx, qy, qz) with radius h (all exact format values). */
+  /** Searches the tree for the query at (qx, qy, qz) with radius h (all exact format values).
+    *
+    * Written for speed: whether a child is queued or yields an SO depends on the data and would
+    * mispredict as a branch, so every candidate is stored at the next free slot and the slot count
+    * advances by 0 or 1 (the same order and contents as the pseudo code). */
   def search(qx: Double, qy: Double, qz: Double, h: Double): Unit = {
     val node = tree.node; val visited = this.visited; val so = this.so
+    val coord = this.coord
+    coord(0) = qx; coord(1) = qy; coord(2) = qz
     var nSo = 0
     var tail = 0
     if (node.length > 0) {
@@ -130,8 +140,7 @@ final class TreeSearcher(tree: SearchTree) {
         val i = visited(head); head += 1
         val s = java.lang.Double.longBitsToDouble(node(2 * i))
         val w = node(2 * i + 1).toInt
-        val a = w & NodeWord.AxisMask
-        val p = if (a == 0) qx else if (a == 1) qy else qz
+        val p = coord(w & NodeWord.AxisMask)
         val tcl = TreeCompare.tcL(p, h, s)
         val tcr = TreeCompare.tcR(p, h, s)
         if (tcl && (w & NodeWord.HasLeft) != 0) {

@@ -19,6 +19,40 @@ final case class Photon(position: Vec3, power: Vec3, incoming: Vec3, normal: Vec
   */
 final case class QueryPoint(position: Vec3, pixel: Int, contribution: Vec3, normal: Vec3)
 
+/** Query points side by side (struct of arrays), in query order: the compact form of a frame's
+  * [[QueryPoint]]s. A full-quality frame has some 15 million of them; as objects (a point and
+  * three vectors each) they would be 60 million small objects that every full garbage collection
+  * walks, as arrays they are ten.
+  *
+  * @param x     positions, likewise `y`, `z`
+  * @param pixel the image pixel of each query
+  * @param cr    contributions red, likewise `cg` green, `cb` blue
+  * @param nx    unit normals, likewise `ny`, `nz`
+  */
+final class QueryPoints(
+    val x: Array[Double], val y: Array[Double], val z: Array[Double],
+    val pixel: Array[Int],
+    val cr: Array[Double], val cg: Array[Double], val cb: Array[Double],
+    val nx: Array[Double], val ny: Array[Double], val nz: Array[Double]
+) {
+  require(Seq(x, y, z, cr, cg, cb, nx, ny, nz).forall(_.length == pixel.length), "query point arrays of unequal length")
+  def length: Int = pixel.length
+  def position(i: Int): Vec3 = Vec3(x(i), y(i), z(i))
+  def contribution(i: Int): Vec3 = Vec3(cr(i), cg(i), cb(i))
+  /** Query point i as an object. */
+  def apply(i: Int): QueryPoint = QueryPoint(position(i), pixel(i), contribution(i), Vec3(nx(i), ny(i), nz(i)))
+  def toArray: Array[QueryPoint] = Array.tabulate(length)(apply)
+}
+
+object QueryPoints {
+  /** The compact form of `qs`, in the same order. */
+  def of(qs: Array[QueryPoint]): QueryPoints = {
+    def col(f: QueryPoint => Double) = qs.map(f)
+    new QueryPoints(col(_.position.x), col(_.position.y), col(_.position.z), qs.map(_.pixel),
+      col(_.contribution.x), col(_.contribution.y), col(_.contribution.z), col(_.normal.x), col(_.normal.y), col(_.normal.z))
+  }
+}
+
 /** Axis-aligned box. */
 final case class Box(lo: Vec3, hi: Vec3) {
   def extent: Vec3 = hi - lo

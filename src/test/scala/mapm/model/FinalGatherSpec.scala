@@ -54,4 +54,12 @@ class FinalGatherSpec extends AnyFunSuite {
     assert(qs.length == 8 * 6 * 5)
     assert(qs.forall(_.contribution == Vec3(0.05, 0.05, 0.05)))
   }
+
+  test("the compact query points hold the same points as the objects, in the same order") {
+    val g = FinalGather.gather(tree, primary, 4, 9, threads = 2)
+    val qs = FinalGather.queries(tree, primary, 4, 9, threads = 1)
+    assert(g.length == qs.length && g.toArray.sameElements(qs))
+    assert(QueryPoints.of(qs).toArray.sameElements(qs))
+    assert((0 until g.length).forall(i => g.position(i) == qs(i).position && g.contribution(i) == qs(i).contribution))
+  }
 }

@@ -16,23 +16,32 @@ class HardwareShadeArithSpec extends AnyFunSuite {
       val cases = new ShaderCases(f, seed = 7 + g)
       // Operations in runs that share kernel, BRDF and h (the cache hits) and change them (misses).
       var shared = cases.operation()
+      // Powers and contributions from small pools too, as in a rendered scene (the table of
+      // finished channels hits), and fresh ones (it misses, or a slot is replaced).
+      val pool = Array.fill(40)(cases.operation())
+      val rnd = new scala.util.Random(11 + g)
       val ops = Array.tabulate(20000) { k =>
         val op = cases.operation()
         if (k % 7 == 0) shared = op
         if (k % 3 != 0) { op(0) = shared(0); op(1) = shared(1); op(2) = shared(2) }
+        if (k % 2 == 0) for (c <- 3 until 9) op(c) = pool(rnd.nextInt(pool.length))(c)
         op
       }
       val want = ops.map(op => Array.tabulate(3)(c => chain.colour(op(0), op(1), op(2), op(3 + c), op(6 + c))))
       val bad = new java.util.concurrent.atomic.AtomicInteger(0)
       val threads = Array.tabulate(4)(t => new Thread(() => {
         val out = new Array[Long](3); val flags = new Array[Int](3); val out2 = new Array[Long](3)
+        val values = new Array[Double](3); val scratch = new Array[Long](3)
         for (k <- (t until ops.length by 4) ++ (0 until ops.length by 5)) {
           val o = ops(k)
           arith.shadeFlags(o(0), o(1), o(2), o(3), o(4), o(5), o(6), o(7), o(8), out, flags)
           arith.shade(o(0), o(1), o(2), o(3), o(4), o(5), o(6), o(7), o(8), out2)
+          arith.shadeValues(o(0), o(1), o(2), o(3), o(4), o(5), o(6), o(7), o(8), scratch, values)
           for (c <- 0 until 3) {
             val w = want(k)(c)
-            if (out(c) != w.bits || flags(c) != w.flags || out2(c) != w.bits ||
+            val v = f.decode(w.bits)
+            val valueOk = java.lang.Double.doubleToRawLongBits(values(c)) == java.lang.Double.doubleToRawLongBits(v) || (v.isNaN && values(c).isNaN)
+            if (out(c) != w.bits || flags(c) != w.flags || out2(c) != w.bits || !valueOk ||
               arith.color(o(0), o(1), o(2), o(3 + c), o(6 + c)) != w.bits) bad.incrementAndGet()
           }
         }

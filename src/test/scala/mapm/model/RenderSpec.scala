@@ -71,4 +71,24 @@ class RenderSpec extends AnyFunSuite {
     assert(intercept[MapmError](PhotonMap.build(Array.empty[Photon], Box(Vec3.zero, Vec3.one), FloatFormat.fp16, 300.0))
       .getMessage.contains("h^2 overflows"))
   }
+
+  test("quantizing queries and photons: values a format cannot carry are one MapmError naming them") {
+    val f = FloatFormat.fp16
+    def q(pos: Vec3, c: Vec3, pixel: Int = 0) = QueryPoint(pos, pixel, c, Vec3(0, 1, 0))
+    def err(body: => Any) = intercept[MapmError](body).getMessage
+    val ok = q(Vec3(1, 2, 3), Vec3(0.5, 0.25, 1))
+    assert(err(QuerySet.build(Array(ok, q(Vec3(1, 1e6, 3), Vec3.one)), f)).contains("query 1 y coordinate = 1.00000e+06 overflows format fp16"))
+    assert(err(QuerySet.build(Array(q(Vec3(Double.NaN, 0, 0), Vec3.one)), f)).contains("query 0 x coordinate is NaN"))
+    assert(err(QuerySet.build(Array(ok, ok, q(Vec3.one, Vec3(0.5, -0.1, 0))), f)).contains("query 2: contribution"))
+    assert(err(QuerySet.build(Array(q(Vec3.one, Vec3(1e9, 0, 0))), f)).contains("query 0 contribution"))
+    assert(err(QuerySet.build(Array(q(Vec3.one, Vec3.one, -3)), f)).contains("pixel index -3 is negative"))
+    val built = QuerySet.build(Array(ok, q(Vec3(4, 5, 6), Vec3(0, 1, 0.125), 7)), f)
+    assert(built.qy.toSeq == Seq(f.encode(2.0), f.encode(5.0)) && built.pixel.toSeq == Seq(0, 7) && built.z.toSeq == Seq(3.0, 6.0))
+    assert(built.contribution(2).toSeq == Seq(f.encode(1.0), f.encode(0.125)))
+    val box = Box(Vec3.zero, Vec3(1e6, 1e6, 1e6))
+    def ph(pos: Vec3, power: Vec3) = Photon(pos, power, Vec3(0, -1, 0), Vec3(0, 1, 0))
+    assert(err(PhotonMap.build(Array(ph(Vec3(1, 1, 1), Vec3.one), ph(Vec3(2, 2, 1e5), Vec3.one)), box, f, 1.0)).contains("photon 1 z coordinate = 100000 overflows format fp16"))
+    assert(err(PhotonMap.build(Array(ph(Vec3(1, 1, 1), Vec3(1, -1, 1))), box, f, 1.0)).contains("power (1.0, -1.0, 1.0) must be non-negative"))
+    assert(err(PhotonMap.build(Array(ph(Vec3(1, 1, 1), Vec3(1, 1, 1e7))), box, f, 1.0)).contains("photon 0 power"))
+  }
 }

@@ -51,7 +51,8 @@ object ExactRounding {
   }
   def div(a: V, b: Rat): V = a match {
     case Rat(n, d) => if (b.num < 0) Rat(-n * b.den, d * -b.num) else Rat(n * b.den, d * b.num)
-    case other     => other
+    case Inf(n)    => Inf(n ^ (b.num < 0))
+    case Zero      => Zero
   }
   def add(a: V, b: V): V = (a, b) match {
     case (Zero, x)                  => x
@@ -234,4 +235,94 @@ class ShadingSpec extends AnyFunSuite {
     for (h <- Seq(0.5, 3.0, 100.0))
       assert(math.abs(Shading.kernel(h) / h * Shading.brdf * math.Pi * math.Pi * h * h - 1) < 1e-15)
   }
+
+  /** Seeded doubles that probe [[RoundedShadeArith.round]]: raw patterns over binary64's whole
+    * range, products of two values of `f`, exact ties between neighbours of `f`, values a few
+    * binary64 ulps around the smallest normal and the largest finite value of `f` and its ties there,
+    * and the special values. */
+  private def roundProbes(f: FloatFormat, rnd: scala.util.Random, n: Int): Seq[Double] = {
+    val specials = Seq(0.0, -0.0, Double.MinPositiveValue, -Double.MinPositiveValue, Double.PositiveInfinity,
+      Double.NegativeInfinity, Double.NaN, Double.MaxValue, f.minNormal, f.maxFinite)
+    val halfUlpMax = math.pow(2, f.maxExp - f.manWidth - 1)
+    val edges = for {
+      base <- Seq(f.minNormal, f.maxFinite, f.maxFinite + halfUlpMax, f.minNormal * (1 - math.pow(2, -f.manWidth - 2)),
+        f.minNormal * (1 - math.pow(2, -f.manWidth - 1)), f.minNormal / 2)
+      k <- -8 to 8
+      sign <- Seq(1.0, -1.0)
+    } yield sign * java.lang.Double.longBitsToDouble(java.lang.Double.doubleToRawLongBits(base) + k)
+    val random = Seq.fill(n) {
+      rnd.nextInt(4) match {
+        case 0 => java.lang.Double.longBitsToDouble(rnd.nextLong())
+        case 1 => value(rnd, f, 0, f.maxExp) * value(rnd, f, 0, f.maxExp) * (if (rnd.nextBoolean()) 1 else -1)
+        case 2 => // the midpoint of two neighbours of f (exact in binary64): a tie
+          val b = f.encode(value(rnd, f, 0, f.maxExp))
+          (f.decode(b) + f.decode(b + 1)) / 2
+        case _ => value(rnd, f, f.minExp, 3) * (1 + (rnd.nextInt(64) - 32) * math.pow(2, -f.manWidth - 3))
+      }
+    }
+    specials ++ edges ++ random
+  }
+
+  for (f <- Seq(FloatFormat.fp32, FloatFormat(6, 23), FloatFormat(4, 23), FloatFormat(8, 15), FloatFormat.fp16, FloatFormat(10, 24)))
+    test(s"round in $f (through binary32: ${RoundedShadeArith.roundsViaFloat(f)}) equals roundByBits bit for bit") {
+      val a = new RoundedShadeArith(f)
+      val rnd = new scala.util.Random(f.width * 7 + f.expWidth)
+      var viaFloat = 0
+      for (d <- roundProbes(f, rnd, 200000)) {
+        val got = a.round(d); val want = a.roundByBits(d)
+        assert(java.lang.Double.doubleToRawLongBits(got) == java.lang.Double.doubleToRawLongBits(want) || (got.isNaN && want.isNaN),
+          s"round($d) = $got, by bits $want")
+        if (math.abs(want) > f.minNormal && math.abs(want) <= f.maxFinite) viaFloat += 1
+      }
+      assert(viaFloat > 50000)
+      // the bit arithmetic itself against the exact rounding of the reference (finite inputs)
+      for (d <- roundProbes(f, rnd, 20000) if !d.isNaN && !d.isInfinite) {
+        val want = toDouble(round(of(d), f))
+        val got = a.roundByBits(d)
+        assert(got == want, s"roundByBits($d) = $got, exact $want")
+      }
+    }
+
+  for (f <- Seq(FloatFormat.fp32, FloatFormat(6, 23), FloatFormat.bf16, FloatFormat.fp16, FloatFormat(10, 12), FloatFormat.fp64))
+    test(s"shadeValues in $f equals the decoded shade and the exact reference, for any finite bit patterns") {
+      val a = new RoundedShadeArith(f)
+      val codec = new FormatBits(f)
+      val rnd = new scala.util.Random(f.width * 13 + 5)
+      val bits = new Array[Long](3); val values = new Array[Double](3); val want = new Array[Long](3)
+      // any finite pattern: exponent fields 0 (zero, or a denormal field that reads as zero) to expMax - 1
+      def pattern(): Long = {
+        val e = rnd.nextInt(5) match { case 0 => 0; case 1 => 1 + rnd.nextInt(3); case 2 => f.expMax - 1 - rnd.nextInt(3); case _ => rnd.nextInt(f.expMax) }
+        f.pack(rnd.nextInt(2), e, rnd.nextLong() & f.manMask)
+      }
+      def near(center: Int): Long = f.encode(value(rnd, f, center, 4) * (if (rnd.nextInt(8) == 0) -1 else 1))
+      for (i <- 0 until 50000) {
+        val v = if (i % 2 == 0) Array.fill(9)(pattern()) else Array(near(-2), near(-1), near(2), near(0), near(0), near(1), near(-1), near(-2), near(-1))
+        if (f.expField(v(2)) == 0) v(2) = f.encode(1.5) // h is never zero
+        if (i % 5 == 0) { v(0) = f.encode(0.125); v(1) = f.encode(0.25); v(2) = f.encode(3.0) } // a repeating prefix
+        a.shade(v(0), v(1), v(2), v(3), v(4), v(5), v(6), v(7), v(8), want)
+        a.shadeValues(v(0), v(1), v(2), v(3), v(4), v(5), v(6), v(7), v(8), bits, values)
+        for (c <- 0 until 3) {
+          assert(java.lang.Double.doubleToRawLongBits(values(c)) == java.lang.Double.doubleToRawLongBits(codec.toDouble(want(c))),
+            s"channel $c of ${v.map(f.hex).mkString(" ")}: ${values(c)} vs ${codec.toDouble(want(c))}")
+          if (f != FloatFormat.fp64) { // binary64 itself rounds its products natively (gradual underflow)
+            val ref = refColor(f, f.decode(v(0)), f.decode(v(1)), f.decode(v(2)), f.decode(v(3 + c)), f.decode(v(6 + c)))
+            assert(want(c) == ref, s"shade channel $c of ${v.map(f.hex).mkString(" ")}")
+          }
+        }
+      }
+    }
+
+  for (f <- Seq(FloatFormat.fp32, FloatFormat(6, 23), FloatFormat.fp16, FloatFormat.fp64))
+    test(s"decode in $f (the fast fp32 path) equals FormatBits.toDouble bit for bit on any pattern") {
+      val a = new RoundedShadeArith(f)
+      val codec = new FormatBits(f)
+      val rnd = new scala.util.Random(f.width + 77)
+      val edges = for (e <- Seq(0, 1, 2, f.expMax - 2, f.expMax - 1, f.expMax); m <- Seq(0L, 1L, f.manMask, f.manMask - 1); s <- 0 to 1)
+        yield f.pack(s, e, m)
+      for (b <- edges ++ Seq.fill(200000)(rnd.nextLong() & f.mask)) {
+        val got = a.decode(b); val want = codec.toDouble(b)
+        assert(java.lang.Double.doubleToRawLongBits(got) == java.lang.Double.doubleToRawLongBits(want),
+          s"decode(${f.hex(b)}) = $got, FormatBits $want")
+      }
+    }
 }
