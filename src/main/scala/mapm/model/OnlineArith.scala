@@ -98,7 +98,9 @@ object OnlineArith {
 
   /** Online divider, δ = 4, t = 3: dividend x' (signed digits, any length, |x'| < d) over the
     * n-bit divisor d (d_1 = 1, bits held as bit n−1 … 0 of `d`). Returns the N = `digits`
-    * quotient digits q_1 … q_N, with |x'/d − Q| < 2^-N.
+    * quotient digits q_1 … q_N, with |x'/d − Q| < 2^-N for the chain's dividends (x'_1 = 0);
+    * a dividend right at the edge of |x'| < d can overflow the residual (at n = 8, 18 nine-digit
+    * ones, all within 5·2^-9 of d: docs/soa.md), as in the hardware.
     *
     * Iteration j = −4 … N−1 consumes x = x'_(j+5), e = d_(j+5); T is the exact vector
     * (x − e·Q[j])·2^-4, (VS, VC) = CSA(2WS, 2WC, T), and the second CSA subtracts q·D[j+1]

@@ -85,18 +85,23 @@ object VerilatorPipe {
   /** Default build cache: `target/verilator-pipe/<top>-<hash>` under the working directory. */
   def defaultCache: Path = Paths.get("target", "verilator-pipe")
 
-  /** Emits `gen`, generates its harness and verilates it (cached by content) under `cacheDir`. */
-  def build(gen: => chisel3.RawModule, cacheDir: Path = defaultCache): VerilatorPipe =
-    fromVerilog(Emit.systemVerilog(gen), cacheDir)
+  /** Emits `gen`, generates its harness and verilates it (cached by content) under `cacheDir`.
+    * Modules whose names start with one of `noInline` stay their own C++ classes instead of being
+    * inlined: for a design of many copies of one unit this compiles the unit once (a bench of 64
+    * CondChecks builds in seconds rather than minutes). */
+  def build(gen: => chisel3.RawModule, cacheDir: Path = defaultCache, noInline: Seq[String] = Seq.empty): VerilatorPipe =
+    fromVerilog(Emit.systemVerilog(gen), cacheDir, noInline)
 
-  /** Builds the pipe for already-emitted SystemVerilog text. */
-  def fromVerilog(sv: String, cacheDir: Path): VerilatorPipe = {
+  /** Builds the pipe for already-emitted SystemVerilog text (`noInline` as in [[build]]). */
+  def fromVerilog(sv: String, cacheDir: Path, noInline: Seq[String] = Seq.empty): VerilatorPipe = {
     val (top, ports) = Emit.topPorts(sv)
     val ins = ports.filter(p => p.isInput && p.name != "clock" && p.name != "reset")
     val outs = ports.filterNot(_.isInput)
     require(ports.exists(_.name == "clock"), s"$top has no clock port")
     val harness = harnessSource(top, ins, outs, hasReset = ports.exists(_.name == "reset"))
-    val dir = cacheDir.resolve(s"$top-${Verilator.hash(sv, harness)}").toAbsolutePath
+    val kept = """(?m)^module\s+(\w+)""".r.findAllMatchIn(sv).map(_.group(1)).filter(m => noInline.exists(m.startsWith)).toSeq.distinct
+    val config = if (kept.isEmpty) "" else ("`verilator_config" +: kept.map(m => s"""no_inline -module "$m"""")).mkString("", "\n", "\n")
+    val dir = cacheDir.resolve(s"$top-${Verilator.hash(sv, harness, config)}").toAbsolutePath
     val exe = dir.resolve("sim")
     if (!Files.isExecutable(exe)) {
       Files.createDirectories(dir)
@@ -104,7 +109,10 @@ object VerilatorPipe {
       val cpp = dir.resolve("harness.cpp")
       Files.write(svFile, sv.getBytes(StandardCharsets.UTF_8))
       Files.write(cpp, harness.getBytes(StandardCharsets.UTF_8))
-      Verilator.build(Seq(svFile), cpp, top, dir, "sim")
+      val vlt = if (config.isEmpty) Seq.empty else {
+        val f = dir.resolve("no-inline.vlt"); Files.write(f, config.getBytes(StandardCharsets.UTF_8)); Seq(f)
+      }
+      Verilator.build(vlt :+ svFile, cpp, top, dir, "sim")
     }
     new VerilatorPipe(exe, top, ins, outs)
   }

@@ -9,30 +9,50 @@ class CondModelSpec extends AnyFunSuite {
   private def cond(f: FloatFormat, in: Array[Long]): Boolean =
     CondModel.cond(f, in(0), in(1), in(2), in(3), in(4), in(5), in(6))
 
-  test("e2m1: every 7th of all 16^7 input combinations (38,347,923 cases), specials included") {
+  test("e2m1: all 16^7 = 268,435,456 input combinations (every pattern: zeros, denormal patterns, infinities, NaNs) against the exact reference") {
     val f = FloatFormat(2, 1)
-    val size = 1 << f.width
-    // Operation tables of the exact reference, so that millions of cases stay fast.
-    def table(op: (FloatFormat, Long, Long) => Long) = Array.tabulate(size, size)((a, b) => op(f, a.toLong, b.toLong).toInt)
-    val subT = table(ExactFloat.sub); val addT = table(ExactFloat.add); val mulT = table(ExactFloat.mul)
-    val ltT = Array.tabulate(size, size)((a, b) => ExactFloat.lt(f, a.toLong, b.toLong))
-    val total = 1L << (7 * f.width)
-    val in = new Array[Long](7)
-    var k = 0L
-    var cases = 0
-    var trues = 0
-    while (k < total) {
-      for (i <- 0 until 7) in(i) = (k >>> (f.width * i)) & f.mask
-      val d = Array.tabulate(3)(i => subT(in(i).toInt)(in(i + 3).toInt))
-      val d2 = addT(addT(mulT(d(0))(d(0)))(mulT(d(1))(d(1))))(mulT(d(2))(d(2)))
-      val want = ltT(d2)(mulT(in(6).toInt)(in(6).toInt))
-      if (cond(f, in) != want) fail(s"case ${in.map(f.hex).mkString(",")}: model ${!want}, reference $want")
-      if (want) trues += 1
-      cases += 1
-      k += 7
+    val t = new CondTables(f)
+    val s = t.size
+    final class Counts { var cases, trues, equal, zero, ties, errors = 0L; var first = List.empty[String] }
+    // Work shared by h (16 slices of 16^6 cases) among the available cores.
+    val nextH = new java.util.concurrent.atomic.AtomicInteger(0)
+    def slice(c: Counts): Unit = {
+      var h = nextH.getAndIncrement()
+      while (h < s) {
+        val hh = t.mul(h * s + h); val tieH = t.mulTie(h * s + h)
+        for (qz <- 0 until s; pz <- 0 until s) {
+          val dz = t.sub(qz * s + pz); val sz = t.mul(dz * s + dz); val tieZ = t.subTie(qz * s + pz) || t.mulTie(dz * s + dz)
+          for (qy <- 0 until s; py <- 0 until s) {
+            val dy = t.sub(qy * s + py); val sy = t.mul(dy * s + dy); val tieY = t.subTie(qy * s + py) || t.mulTie(dy * s + dy)
+            for (qx <- 0 until s; px <- 0 until s) {
+              val dx = t.sub(qx * s + px); val sx = t.mul(dx * s + dx)
+              val xy = t.add(sx * s + sy); val d2 = t.add(xy * s + sz)
+              val want = t.lt(d2 * s + hh)
+              val got = CondModel.cond(f, qx, qy, qz, px, py, pz, h)
+              if (got != want) {
+                c.errors += 1
+                if (c.errors <= 5) c.first ::= s"case ${Seq(qx, qy, qz, px, py, pz, h).map(v => f.hex(v.toLong)).mkString(",")}: model $got, reference $want"
+              }
+              c.cases += 1
+              if (want) c.trues += 1
+              if (t.eq(d2 * s + hh)) c.equal += 1
+              if (f.isZero(d2)) c.zero += 1
+              if (tieH || tieZ || tieY || t.subTie(qx * s + px) || t.mulTie(dx * s + dx) || t.addTie(sx * s + sy) || t.addTie(xy * s + sz)) c.ties += 1
+            }
+          }
+        }
+        h = nextH.getAndIncrement()
+      }
     }
-    info(s"$cases cases, $trues with cond true")
-    assert(cases == 38347923 && trues > cases / 200)
+    val t0 = System.nanoTime
+    val counts = Seq.fill(math.max(1, Runtime.getRuntime.availableProcessors))(new Counts)
+    val threads = counts.map(c => new Thread(() => slice(c)))
+    threads.foreach(_.start()); threads.foreach(_.join())
+    def sum(g: Counts => Long) = counts.map(g).sum
+    assert(sum(_.errors) == 0, s"${sum(_.errors)} mismatches, some:\n${counts.flatMap(_.first).mkString("\n")}")
+    info(f"${sum(_.cases)} cases in ${(System.nanoTime - t0) / 1e9}%.1f s: cond true ${sum(_.trues)}, d2 == hh ${sum(_.equal)}, d2 == 0 ${sum(_.zero)}, some step rounded a tie ${sum(_.ties)}")
+    assert(sum(_.cases) == (1L << 28))
+    assert(sum(_.trues) > 0 && sum(_.equal) > 0 && sum(_.zero) > 0 && sum(_.ties) > 0)
   }
 
   test("fp32: 1,000,000 seeded cases (near the sphere, d2 == hh, zero distance, ties, specials)") {

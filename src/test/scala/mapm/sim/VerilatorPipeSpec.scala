@@ -39,4 +39,29 @@ class VerilatorPipeSpec extends AnyFunSuite {
     }
     assert(outs(0)(pipe.out("io_out_valid")) == 0, "reset clears the valid bit")
   }
+
+  class Inner extends Module {
+    override def desiredName = "PipeInner"
+    val io = IO(new Bundle { val a = Input(UInt(8.W)); val y = Output(UInt(8.W)) })
+    io.y := RegNext(io.a * 3.U)
+  }
+  class Outer extends Module {
+    override def desiredName = "PipeOuter"
+    val io = IO(new Bundle { val a = Input(Vec(2, UInt(8.W))); val y = Output(Vec(2, UInt(8.W))) })
+    for (i <- 0 until 2) { val u = Module(new Inner); u.io.a := io.a(i) + i.U; io.y(i) := u.io.y }
+  }
+
+  test("noInline keeps the named modules as their own C++ classes, with the same results") {
+    val dir = java.nio.file.Files.createTempDirectory("pipe")
+    val rnd = new scala.util.Random(4)
+    val rows = IndexedSeq.fill(200)(Array(BigInt(8, rnd), BigInt(8, rnd)))
+    for (keep <- Seq(Seq.empty, Seq("PipeInner"))) {
+      val pipe = VerilatorPipe.build(new Outer, dir, noInline = keep)
+      val obj = pipe.exe.getParent.resolve("obj")
+      assert(java.nio.file.Files.exists(obj.resolve("VPipeOuter_PipeInner.h")) == keep.nonEmpty, s"noInline = $keep")
+      val outs = pipe.runAll(rows)
+      for (t <- 1 until rows.length; i <- 0 until 2)
+        assert(outs(t)(pipe.out(s"io_y_$i")) == ((rows(t - 1)(pipe.in(s"io_a_$i")) + i) * 3) % 256)
+    }
+  }
 }
