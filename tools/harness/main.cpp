@@ -225,13 +225,15 @@ int main(int argc, char** argv) {
       anyOut = true;
       bool dup = false;
       const int64_t i = exp.take(o.q, o.photon, &dup);
-      const std::string so = "SO (q=" + std::to_string(o.q) + ", photon=" + std::to_string(o.photon) + ") on port " + std::to_string(p) +
-                             " at cycle " + std::to_string(cycle);
-      if (i < 0) { failure = (dup ? "duplicate " : "unexpected ") + so + ": " + describe(o); break; }
+      auto so = [&] {
+        return "SO (q=" + std::to_string(o.q) + ", photon=" + std::to_string(o.photon) + ") on port " + std::to_string(p) +
+               " at cycle " + std::to_string(cycle);
+      };
+      if (i < 0) { failure = (dup ? "duplicate " : "unexpected ") + so() + ": " + describe(o); break; }
       const SoRecord& r = exp.rec[i];
       bool same = o.cond == r.cond();
       for (int c = 0; c < 3; c++) same = same && o.colour[c] == r.colour[c] && o.flags[c] == (uint32_t)r.flags(c);
-      if (!same) { failure = "mismatch " + so + ": got " + describe(o) + "; expected " + describe(r); break; }
+      if (!same) { failure = "mismatch " + so() + ": got " + describe(o) + "; expected " + describe(r); break; }
       soOut++;
       if (o.cond) {
         soPassed++;

@@ -63,13 +63,14 @@ object SweepCommand extends Command {
     }
     val base = runs.head.stat("cycles")
     def cell(v: Option[Double]): String = v.filter(x => !x.isNaN).map(x => f"$x%.6g").getOrElse("")
+    def whole(v: Option[Double]): String = v.filter(x => !x.isNaN).map(x => f"$x%.0f").getOrElse("")
     def hitRate(r: RtlRun.ConfigRun, c: String): Option[Double] =
       r.outcome.stats.flatMap(_.obj.get("caches")).flatMap(_.obj.get(c)).flatMap(_.obj.get("hitRate")).flatMap(_.numOpt)
     val speedups = runs.map(r => for (b <- base; c <- r.stat("cycles") if c > 0) yield b / c)
     val header = (Seq("config", "tsm", "som", "soa", "cycles", "so_per_cycle", "ts_ops_per_cycle", "speedup") ++
       caches.map(c => s"hit_rate_$c") ++ Seq("gb_per_s", "sim_wall_s", "sim_cycles_per_s", "result")).mkString(",")
     val rows = runs.zip(speedups).map { case (r, sp) =>
-      (Seq(r.p.counts.label, r.p.counts.tsm.toString, r.p.counts.som.toString, r.p.counts.soaPerSom.toString, cell(r.stat("cycles")),
+      (Seq(r.p.counts.label, r.p.counts.tsm.toString, r.p.counts.som.toString, r.p.counts.soaPerSom.toString, whole(r.stat("cycles")),
         cell(r.stat("soPerCycle")), cell(r.stat("tsOpsPerCycle")), cell(sp)) ++ caches.map(c => cell(hitRate(r, c))) ++
         Seq(cell(r.stat("gbPerSecond")), cell(r.stat("wallSeconds")), cell(r.stat("simulatedCyclesPerSecond")),
           if (r.passed) "PASS" else "FAIL")).mkString(",")

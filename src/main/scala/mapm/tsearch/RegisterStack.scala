@@ -17,10 +17,11 @@ import chisel3.util._
   * cycle.
   */
 class RegisterStack[T <: Data](gen: T, val depth: Int) extends Module {
-  require(depth >= 2, s"Register-queue bank needs at least 2 entries, got $depth")
+  require(depth >= 4, s"Register-queue bank needs at least 4 entries, got $depth")
   override def desiredName = s"RegisterStack_d$depth"
   private val cntBits = log2Ceil(depth + 1)
   private val idxBits = log2Ceil(depth)
+  private val bankBits = log2Ceil((depth + 1) / 2)
 
   val io = IO(new Bundle {
     val push = Input(Vec(2, Valid(gen)))
@@ -32,24 +33,41 @@ class RegisterStack[T <: Data](gen: T, val depth: Int) extends Module {
     val overflow = Output(Bool())
   })
 
-  val slots = Reg(Vec(depth, gen))
+  // The entries live in two register files, even and odd indices, each with one write and one
+  // read port: a cycle's two pushes go to consecutive indices, so each bank takes at most one.
+  // (Not a `Vec` of registers: its dynamically indexed read lowers to a packed array of every
+  // entry, which Verilator rebuilds by wide concatenation every cycle, more than half of a 16/16/2
+  // simulation's time.) The read is synchronous: each cycle reads the entry that will be on top
+  // next cycle, and an entry pushed this cycle, which a bank cannot yet return, is bypassed.
+  private val banks = Seq.fill(2)(SyncReadMem((depth + 1) / 2, gen))
   val count = RegInit(0.U(cntBits.W))
   val peak = RegInit(0.U(cntBits.W))
   val overflow = RegInit(false.B)
 
-  io.top.valid := count =/= 0.U
-  io.top.bits := slots((count - 1.U)(idxBits - 1, 0))
   private val popped = io.pop && io.top.valid
   private val base = count - popped.asUInt
-  // Push k goes to base + (number of valid pushes before it).
+  // Push k goes to base + (number of valid pushes before it); one beyond the depth is not written.
   private val at = Seq(base, base + io.push(0).valid.asUInt)
-  for (k <- 0 until 2) when(io.push(k).valid && at(k) < depth.U) { slots(at(k)(idxBits - 1, 0)) := io.push(k).bits }
+  private val written = Seq.tabulate(2)(k => io.push(k).valid && at(k) < depth.U)
+  for ((bank, b) <- banks.zipWithIndex) {
+    val hit = Seq.tabulate(2)(k => written(k) && at(k)(0) === b.U)
+    when(hit(0) || hit(1)) { bank.write((Mux(hit(0), at(0), at(1)) >> 1)(bankBits - 1, 0), Mux(hit(0), io.push(0).bits, io.push(1).bits)) }
+  }
   private val pushes = PopCount(io.push.map(_.valid))
   private val wanted = base +& pushes
   when(wanted > depth.U) { overflow := true.B }
   private val next = Mux(wanted > depth.U, depth.U, wanted)
   count := next
   when(next > peak) { peak := next }
+
+  // Next cycle's top: the highest entry written this cycle if any, else the memory's entry.
+  private val bypass = RegNext(written(0) || written(1), false.B)
+  private val bypassData = RegEnable(Mux(written(1), io.push(1).bits, io.push(0).bits), written(0) || written(1))
+  private val topAt = (next - 1.U)(idxBits - 1, 0)
+  private val stored = banks.map(_.read((topAt >> 1)(bankBits - 1, 0), next =/= 0.U))
+  private val odd = RegNext(topAt(0))
+  io.top.valid := count =/= 0.U
+  io.top.bits := Mux(bypass, bypassData, Mux(odd, stored(1), stored(0)))
   io.count := count
   io.peak := peak
   io.overflow := overflow

@@ -25,6 +25,7 @@ class SweepSpec extends AnyFunSuite {
     assert(lines.size == 3 && lines.head.startsWith("config,tsm,som,soa,cycles,so_per_cycle"))
     val rows = lines.tail.map(_.split(",", -1))
     assert(rows.map(_(0)) == Seq("1/1/1", "2/1/2") && rows.forall(_.last == "PASS"))
+    assert(rows.forall(_(4).matches("[1-9][0-9]*")), "cycles are whole numbers, every digit kept")
     val cycles = rows.map(_(4).toDouble)
     assert(rows.head(7).toDouble == 1.0 && math.abs(rows(1)(7).toDouble - cycles(0) / cycles(1)) < 1e-4, "speed-up = first's cycles / own")
     assert(Files.size(out.resolve("sweep-test-tiny-sweep-so-per-cycle.png")) > 0 && Files.size(out.resolve("sweep-test-tiny-sweep-speedup.png")) > 0)
