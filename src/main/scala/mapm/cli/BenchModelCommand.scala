@@ -5,19 +5,6 @@ import mapm.MapmError
 import mapm.model.{FloatFormat, Parallel}
 import Args.FloatFormatReader
 
-/** Process CPU time, for benchmarks that report what a run got when other processes share the
-  * cores. None where the JVM does not expose it. */
-object ProcessCpu {
-  private val bean: Option[com.sun.management.OperatingSystemMXBean] =
-    java.lang.management.ManagementFactory.getOperatingSystemMXBean match {
-      case o: com.sun.management.OperatingSystemMXBean => Some(o)
-      case _                                           => None
-    }
-
-  /** CPU seconds this process has used so far (every thread, JIT and GC included). */
-  def seconds: Option[Double] = bean.map(_.getProcessCpuTime / 1e9)
-}
-
 /** `mapm bench-model`: the whole `model` pipeline of a scene, in process, timed.
   *
   * Runs [[ModelRun.run]] (load the scene, trace photons, primary rays and final gather, direct
@@ -56,7 +43,7 @@ object BenchModelCommand extends Command {
       val t = System.nanoTime()
       val r = ModelRun.run(scene, format, out, threads, quiet = true, g = g)
       val wall = (System.nanoTime() - t) / 1e9
-      val cpu = for (a <- c0; b <- ProcessCpu.seconds) yield b - a
+      val cpu = ProcessCpu.since(c0)
       if (rep == 1) {
         val f = r.frame
         println(s"workload: ${f.width}x${f.height}, ${f.config.finalGatherRays} final-gather rays, ${r.stats.photons} photons, " +

@@ -53,7 +53,7 @@ object BenchSearchCommand extends Command {
       val c = ProcessCpu.seconds
       val r = Render.run(map, qset, pixels, arith, threads)
       val s = (System.nanoTime() - t) / 1e9
-      val cpu = for (a <- c; b <- ProcessCpu.seconds) yield b - a
+      val cpu = ProcessCpu.since(c)
       val st = r.stats
       if (rep == 1) println(s"stats: ${st.describe}; ${f"${st.shaderOps.toDouble / queries}%.1f"} shader ops per query")
       // CPU time shows what the run gets when other processes share the cores

@@ -50,7 +50,7 @@ object ModelRun {
     val cpu0 = ProcessCpu.seconds
     val hw = Render.run(frame.map, frame.querySet, frame.pixels, arith, threads, Some("search+shade"))
     val t1 = System.nanoTime()
-    val searchCpu = for (a <- cpu0; b <- ProcessCpu.seconds) yield b - a
+    val searchCpu = ProcessCpu.since(cpu0)
     val refMap = PhotonMap.fromTree(frame.map.tree, frame.photons, FloatFormat.fp64, frame.h)
     val ref = Render.run(refMap, QuerySet.build(frame.queries, FloatFormat.fp64, Some("quantize queries (float64)")),
       frame.pixels, ShadeArith.float64, threads, Some("search+shade (float64)"))

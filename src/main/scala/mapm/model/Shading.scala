@@ -123,8 +123,6 @@ final class RoundedShadeArith private (
     halfMinus1: Long,
     minNormal: Double,
     maxFinite: Double,
-    maxBits: Long,
-    signBit: Long,
     condHi: Double,
     condLo: Double,
     condAbs: Double,
@@ -133,7 +131,7 @@ final class RoundedShadeArith private (
   def this(format: FloatFormat) = this(RoundedShadeArith.checked(format), new FormatBits(format), format == FloatFormat.fp64,
     RoundedShadeArith.roundsViaFloat(format), format == FloatFormat.fp32,
     52 - format.manWidth, (1L << (52 - format.manWidth)) - 1, (1L << (52 - format.manWidth)) / 2 - 1 max 0L,
-    format.minNormal, format.maxFinite, format.pack(0, format.expMax - 1, format.manMask), 1L << (format.width - 1),
+    format.minNormal, format.maxFinite,
     math.pow(1 + math.pow(2, -format.manWidth - 1), 6) * (1 + 1e-12),
     math.pow(1 - math.pow(2, -format.manWidth - 1), 6) * (1 - 1e-12),
     8 * format.minNormal, new java.util.concurrent.atomic.AtomicReference(new RoundedShadeArith.Prefix(0L, 0L, 0L, 0.0)))
@@ -224,12 +222,8 @@ final class RoundedShadeArith private (
 
   /** R(R(t2 * power) * contribution) with the output rules (zero, saturation). */
   private def finish(t2: Double, power: Long, contrib: Long): Long = {
-    val p = decode(power); val c = decode(contrib)
-    if (t2 == 0 || p == 0 || c == 0) return 0L
-    val r = round(round(t2 * p) * c)
-    if (r == 0) 0L
-    else if (r.isInfinite) maxBits | (if (r < 0) signBit else 0L)
-    else codec.toBits(r)
+    val v = finishValue(t2, power, contrib)
+    if (v == 0) 0L else codec.toBits(v)
   }
 
   def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Long =

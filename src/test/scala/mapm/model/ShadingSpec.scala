@@ -313,7 +313,7 @@ class ShadingSpec extends AnyFunSuite {
     }
 
   for (f <- Seq(FloatFormat.fp32, FloatFormat(6, 23), FloatFormat.fp16, FloatFormat.fp64))
-    test(s"decode in $f (the fast fp32 path) equals FormatBits.toDouble bit for bit on any pattern") {
+    test(s"decode in $f (fast fp32 path: ${f == FloatFormat.fp32}) equals FormatBits.toDouble bit for bit on any pattern") {
       val a = new RoundedShadeArith(f)
       val codec = new FormatBits(f)
       val rnd = new scala.util.Random(f.width + 77)
