@@ -41,3 +41,53 @@ mapm_sbt_launcher() {
   fi
   echo "$jar"
 }
+
+# The open cost flow (tools/mapm cost): yosys through PyPI's pyosys (a native wheel with yosys-abc
+# inside) in a venv under the cache, OpenSTA from Debian, and the OSU 0.18 um cells from Debian's
+# qflow-tech-osu018 (unpacked from the .deb alone, without qflow). Each prints the one path it made.
+MAPM_PYOSYS_VERSION="${MAPM_PYOSYS_VERSION:-0.70}"
+
+mapm_ensure_yosys() {
+  local venv="$MAPM_CACHE/pyosys-$MAPM_PYOSYS_VERSION"
+  if ! "$venv/bin/python" -c 'from pyosys import libyosys' >/dev/null 2>&1; then
+    command -v python3 >/dev/null 2>&1 || mapm_apt_install python3 python3-venv
+    mkdir -p "$MAPM_CACHE"
+    echo "mapm setup: installing pyosys $MAPM_PYOSYS_VERSION (yosys) from PyPI into $venv ..." >&2
+    rm -rf "$venv"
+    { python3 -m venv "$venv" >/dev/null 2>&1 || { mapm_apt_install python3-venv && python3 -m venv "$venv" >/dev/null 2>&1; }; } \
+      || mapm_die "could not create a Python venv at $venv"
+    "$venv/bin/pip" install -q "pyosys==$MAPM_PYOSYS_VERSION" >&2 || mapm_die "pip install pyosys==$MAPM_PYOSYS_VERSION failed"
+    "$venv/bin/python" -c 'from pyosys import libyosys' >/dev/null 2>&1 || mapm_die "pyosys installed but does not import"
+  fi
+  echo "$venv/bin/python"
+}
+
+mapm_ensure_opensta() {
+  command -v sta >/dev/null 2>&1 || mapm_apt_install opensta
+  command -v sta
+}
+
+# Prints the OSU018 Liberty file, unpacking Debian's qflow-tech-osu018 into the cache if needed.
+mapm_ensure_osu018() {
+  local dir="$MAPM_CACHE/osu018"
+  local lib="$dir/usr/share/qflow/tech/osu018/osu018_stdcells.lib"
+  if [ ! -s "$lib" ]; then
+    command -v apt-get >/dev/null 2>&1 || mapm_die "cannot fetch qflow-tech-osu018 without apt-get; pass --lib FILE.lib"
+    local tmp; tmp="$(mktemp -d)"
+    echo "mapm setup: fetching the OSU 0.18 um cells (qflow-tech-osu018) from Debian's packages ..." >&2
+    ( cd "$tmp" && { apt-get download -qq qflow-tech-osu018 >/dev/null 2>&1 || \
+        { apt-get update -qq >/dev/null 2>&1 && apt-get download -qq qflow-tech-osu018 >/dev/null 2>&1; }; } ) \
+      || { rm -rf "$tmp"; mapm_die "apt-get download qflow-tech-osu018 failed; pass --lib FILE.lib"; }
+    mkdir -p "$dir" && dpkg-deb -x "$tmp"/qflow-tech-osu018_*.deb "$dir" || { rm -rf "$tmp"; mapm_die "could not unpack qflow-tech-osu018"; }
+    rm -rf "$tmp"
+    [ -s "$lib" ] || mapm_die "qflow-tech-osu018 has no $lib"
+  fi
+  echo "$lib"
+}
+
+# All three, as KEY=VALUE lines for tools/mapm cost (read by mapm.cost.CostTools).
+mapm_ensure_cost_tools() {
+  echo "yosys_python=$(mapm_ensure_yosys)"
+  echo "sta=$(mapm_ensure_opensta)"
+  echo "osu018_lib=$(mapm_ensure_osu018)"
+}
