@@ -28,10 +28,10 @@ lazy val root = (project in file("."))
     ),
     Compile / run / fork := true,
     Compile / run / connectInput := true,
-    Compile / run / javaOptions ++= Seq("-Xss16m", "-Xmx8g"),
+    Compile / run / javaOptions ++= Seq("-Xss16m", "-Xmx8g", s"-Dmapm.root=${baseDirectory.value}"),
     Compile / mainClass := Some("mapm.cli.Main"),
     Test / fork := true,
-    Test / javaOptions ++= Seq("-Xss16m", "-Xmx8g"),
+    Test / javaOptions ++= Seq("-Xss16m", "-Xmx8g", s"-Dmapm.root=${baseDirectory.value}"),
     Test / parallelExecution := false,
     Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD")
   )

@@ -33,7 +33,8 @@ object Main {
     TsaVectorsCommand,
     EmitSoaCommand,
     SoaVectorsCommand,
-    SoaBenchCommand
+    SoaBenchCommand,
+    CostCommand
   )
 
   def usage: String = {

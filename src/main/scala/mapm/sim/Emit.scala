@@ -9,15 +9,21 @@ object Emit {
     * needs it) and no debug-info comments, so the output is stable and lint-clean. */
   val firtoolOpts: Array[String] = Array("-disable-all-randomization", "-strip-debug-info")
 
-  /** The SystemVerilog of `gen` as one string. */
-  def systemVerilog(gen: => chisel3.RawModule): String =
-    circt.stage.ChiselStage.emitSystemVerilog(gen, Array.empty, firtoolOpts)
+  /** Extra options for Verilog that yosys reads (the cost flow): no `automatic logic` locals and no
+    * packed arrays, which yosys' front end rejects. The logic is the same, only spelt plainer. */
+  val synthesisOpts: Array[String] =
+    Array("--lowering-options=disallowLocalVariables,disallowPackedArrays,locationInfoStyle=none")
+
+  /** The SystemVerilog of `gen` as one string; `forSynthesis` spells it for yosys. */
+  def systemVerilog(gen: => chisel3.RawModule, forSynthesis: Boolean = false): String =
+    circt.stage.ChiselStage.emitSystemVerilog(gen, Array.empty,
+      if (forSynthesis) firtoolOpts ++ synthesisOpts else firtoolOpts)
 
   /** Writes the SystemVerilog of `gen` to `dir/<file>` and returns the path. */
-  def toFile(gen: => chisel3.RawModule, dir: Path, file: String): Path = {
+  def toFile(gen: => chisel3.RawModule, dir: Path, file: String, forSynthesis: Boolean = false): Path = {
     Files.createDirectories(dir)
     val p = dir.resolve(file)
-    Files.write(p, systemVerilog(gen).getBytes(StandardCharsets.UTF_8))
+    Files.write(p, systemVerilog(gen, forSynthesis).getBytes(StandardCharsets.UTF_8))
     p
   }
 

@@ -1,0 +1,167 @@
+package mapm.cli
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+import mapm.cost._
+import mapm.sim.Emit
+import mapm.top.{Mapm, MapmParams}
+
+/** The cost of a whole MAPM configuration, two ways side by side (docs/cost.md):
+  *
+  *  (a) the dissertation's method (Table 4.9): the SOA's and the TSA's unit figures times their
+  *      counts, at a common clock;
+  *  (b) the synthesized logic of every module: the whole design synthesized once with its
+  *      hierarchy kept, so each distinct module is mapped once; each module's own cells count
+  *      once per instance. The caches' and Register-queue banks' SRAM arrays (`SyncReadMem`s) are
+  *      black boxes: their bits are reported per block and their area estimated from a bit-cell
+  *      model ([[SramModel]]); their power is not modelled, and says so.
+  *
+  * Timing and power of (b): each module whose subtree has at most [[SubtreeLimit]] cells is
+  * analysed whole by OpenSTA; a larger one (the blocks and the top) is analysed for its own
+  * logic with its submodules as empty shells. fmax is the lowest of these analyses. Power uses
+  * one global activity, the mean net activity the SOA showed in its gate-level simulation.
+  */
+object ConfigCost {
+  /** Largest subtree (cells) OpenSTA analyses in one piece here. */
+  val SubtreeLimit = 700000L
+
+  /** SRAM bit-cell area model for the black-boxed arrays: a 6T cell of Intel's 180 nm logic
+    * process (5.59 um^2, IEDM 1998) at 70 % array efficiency (decoders, sense amplifiers). */
+  object SramModel {
+    val cellUm2 = 5.59
+    val efficiency = 0.70
+    def areaUm2(bits: Long): Double = bits * cellUm2 / efficiency
+    val source = "6T bit cell of 5.59 um^2 (Intel 180 nm logic process, IEDM 1998) at 70 % array efficiency; power not modelled"
+  }
+
+  private def block(chain: Seq[String]): String =
+    chain.reverseIterator.collectFirst {
+      case m if m.startsWith("ReadOnlyCache") || m.startsWith("RegisterStack") => if (m.startsWith("ReadOnlyCache")) "caches" else "TS block"
+      case m if m.startsWith("MemArbiter") => "arbiter"
+      case m if m.startsWith("TsBlock") => "TS block"
+      case m if m.startsWith("SoBlock") => "SO block"
+    }.getOrElse("top")
+
+  final case class Analysis(root: String, instances: Long, shell: Boolean, fmaxGHz: Double, critical: String,
+                            atClock: Sta.AtClock)
+
+  def run(flow: CostFlow, p: MapmParams, soa: UnitCost, tsa: UnitCost, meanActivity: Double, dir: Path,
+          log: String => Unit): ujson.Obj = {
+    val nSoa = p.counts.som * p.counts.soaPerSom
+    val nTsa = p.counts.tsm
+    // (a) unit figures times counts; dynamic power scales with the clock at a fixed activity per cycle.
+    def pj(u: UnitCost): Double = u.clocks.head.dynamicMw / u.clocks.head.clockGHz
+    val fmaxA = math.min(soa.fmaxGHz, tsa.fmaxGHz)
+    def methodA(clk: Double): ujson.Obj = ujson.Obj("clockGHz" -> clk, "slackMet" -> (clk <= fmaxA + 1e-9),
+      "areaMm2" -> (nSoa * soa.areaUm2 + nTsa * tsa.areaUm2) / 1e6,
+      "dynamicPowerMw" -> (nSoa * pj(soa) + nTsa * pj(tsa)) * clk,
+      "leakagePowerMw" -> (nSoa * soa.clocks.head.leakageMw + nTsa * tsa.clocks.head.leakageMw))
+
+    // (b) every module's logic.
+    val top = s"Mapm_${p.name}"
+    log(s"emitting $top for synthesis ...")
+    val sv = Emit.toFile(new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true)
+    val hier = Hierarchy.parse(new String(Files.readAllBytes(sv), StandardCharsets.UTF_8))
+    val mems = hier.memories.keys.toSeq.sorted
+    log(s"synthesizing $top with its hierarchy (${mems.size} SRAM arrays as black boxes) ...")
+    val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
+    val (syn, synSecs) = Synthesis.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
+      flatten = false, blackbox = mems)
+    val r = syn.head
+    val own = ModuleCells.read(r.json, flow.library)
+    val inst = {
+      val c = scala.collection.mutable.Map.empty[String, Long].withDefaultValue(0L)
+      def walk(m: String, n: Long): Unit = { c(m) += n; own.get(m).foreach(_.children.groupBy(identity).foreach { case (k, v) => walk(k, n * v.size) }) }
+      walk(top, 1); c.toMap
+    }
+    val big = own.keySet.filter(m => ModuleCells.subtreeCells(own, m) > SubtreeLimit)
+    val cover = own.keySet.filter(m => inst.contains(m) && !big(m) && !mems.contains(m) &&
+      (m == top || own.values.exists(par => big(par.module) && par.children.contains(m))))
+    val texts = VerilogModules.split(new String(Files.readAllBytes(r.verilog), StandardCharsets.UTF_8))
+    val bbFile = r.dir.resolve("blackboxes.v")
+    val extra = if (Files.isRegularFile(bbFile)) Seq(bbFile) else Seq.empty
+    val act = Sta.Activity(meanActivity, 0.5)
+    val clocks = flow.clocksGHz
+    val t0 = System.nanoTime()
+    val analyses = (cover.toSeq.sorted.map(m => (m, false)) ++ big.toSeq.sorted.map(m => (m, true))).map { case (m, shell) =>
+      log(s"timing and power of ${if (shell) s"$m (own logic)" else m} x ${inst(m)} ...")
+      val files = if (!shell) Seq(r.verilog) ++ extra else {
+        val f = dir.resolve("sta-shells").resolve(s"$m.v")
+        Files.createDirectories(f.getParent)
+        val kids = own(m).children.distinct.filterNot(mems.contains).flatMap(texts.get).map(VerilogModules.shell)
+        Files.write(f, (texts(m) +: kids).mkString("\n\n").getBytes(StandardCharsets.UTF_8))
+        Seq(f) ++ extra
+      }
+      val rep = Sta.run(files, m, flow.libPath, clocks, dir.resolve("sta").resolve(m), Seq.empty, Seq.empty, act)
+      val worst = rep.clocks.head
+      Analysis(m, inst(m), shell, rep.fmaxGHz, s"${worst.startPoint} -> ${worst.endPoint}", worst) -> rep
+    }
+    val staSecs = (System.nanoTime() - t0) / 1e9
+    val fmaxB = analyses.map(_._1.fmaxGHz).min
+    val slowest = analyses.minBy(_._1.fmaxGHz)._1
+
+    // Area and SRAM by block, over every instance path.
+    val paths = {
+      val out = scala.collection.mutable.ArrayBuffer.empty[Seq[String]]
+      def walk(chain: Seq[String]): Unit = { out += chain; own.get(chain.last).foreach(_.children.foreach(c => walk(chain :+ c))) }
+      walk(Seq(top)); out.toSeq
+    }
+    val blocks = Seq("TS block", "SO block", "caches", "arbiter", "top")
+    val areaBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.areaUm2).getOrElse(0.0)).sum }
+    val seqBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.seqAreaUm2).getOrElse(0.0)).sum }
+    val sramBy = paths.filter(c => mems.contains(c.last)).groupBy(block).map { case (b, ps) => b -> ps.map(c => hier.memoryBits(c.last)).sum }
+    val rootBlock = analyses.map { case (a, _) => a.root -> block(paths.find(_.last == a.root).getOrElse(Seq(top))) }.toMap
+    def powerAt(i: Int): (Double, Double, Map[String, Double]) = {
+      val per = analyses.map { case (a, rep) => (rootBlock(a.root), rep.clocks(i).dynamicMw * a.instances, rep.clocks(i).leakageMw * a.instances) }
+      (per.map(_._2).sum, per.map(_._3).sum, per.groupBy(_._1).map { case (b, xs) => b -> xs.map(_._2).sum })
+    }
+    val logicArea = areaBy.values.sum
+    val sramBits = sramBy.values.sum
+
+    val json = ujson.Obj(
+      "configuration" -> p.counts.label, "format" -> p.numbers.format.toString, "g" -> p.numbers.guardDigits,
+      "library" -> flow.libPath.getFileName.toString,
+      "methodA" -> ujson.Obj("description" -> s"$nSoa SOAs x ${soa.top} + $nTsa TSAs x ${tsa.top} (dissertation Table 4.9)",
+        "fmaxGHz" -> fmaxA, "atFmax" -> methodA(fmaxA), "clocks" -> ujson.Arr.from(clocks.map(methodA))),
+      "methodB" -> ujson.Obj(
+        "description" -> "every module synthesized once (hierarchy kept), own cells x instances; SRAM arrays black-boxed",
+        "fmaxGHz" -> fmaxB, "slowest" -> ujson.Obj("module" -> slowest.root, "path" -> slowest.critical),
+        "logicAreaMm2" -> logicArea / 1e6, "sequentialAreaMm2" -> seqBy.values.sum / 1e6,
+        "areaByBlockMm2" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(areaBy.getOrElse(b, 0.0) / 1e6))),
+        "activity" -> s"global $meanActivity toggles/cycle (mean net activity of the SOA's gate-level run), duty 0.5",
+        "clocks" -> ujson.Arr.from(clocks.indices.map { i =>
+          val (dyn, leak, by) = powerAt(i)
+          ujson.Obj("clockGHz" -> clocks(i), "slackMet" -> (clocks(i) <= fmaxB + 1e-9), "dynamicPowerMw" -> dyn,
+            "leakagePowerMw" -> leak, "dynamicByBlockMw" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(by.getOrElse(b, 0.0)))))
+        }),
+        "modules" -> ujson.Arr.from(analyses.map { case (a, rep) => ujson.Obj("module" -> a.root, "instances" -> a.instances.toDouble,
+          "ownLogicOnly" -> a.shell, "fmaxGHz" -> a.fmaxGHz, "criticalPath" -> a.critical,
+          "areaUm2" -> (if (a.shell) own(a.root).areaUm2 else 0.0)) }),
+        "sram" -> ujson.Obj("model" -> SramModel.source, "bits" -> sramBits.toDouble,
+          "bitsByBlock" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(sramBy.getOrElse(b, 0L).toDouble))),
+          "areaMm2" -> SramModel.areaUm2(sramBits) / 1e6, "powerMw" -> ujson.Null,
+          "arrays" -> ujson.Arr.from(mems.map(m => ujson.Obj("module" -> m, "width" -> hier.memories(m)._1,
+            "depth" -> hier.memories(m)._2, "instances" -> inst.getOrElse(m, 0L).toDouble))))),
+      "seconds" -> ujson.Obj("synthesis" -> synSecs, "sta" -> staSecs))
+    json
+  }
+
+  /** The tables of a configuration's cost (method a beside method b). */
+  def markdown(j: ujson.Obj): String = {
+    val a = j("methodA"); val b = j("methodB")
+    val sb = new StringBuilder
+    sb ++= s"MAPM ${j("configuration").str}, format ${j("format").str}, g = ${j("g").num.toInt}, library ${j("library").str}\n\n"
+    sb ++= "| clock (GHz) | (a) slack met? | (a) area (mm^2) | (a) dynamic (mW) | (a) leakage (mW) | (b) slack met? | (b) logic area (mm^2) | (b) dynamic (mW) | (b) leakage (mW) |\n"
+    sb ++= "|---:|:---:|---:|---:|---:|:---:|---:|---:|---:|\n"
+    for ((ca, cb) <- a("clocks").arr.zip(b("clocks").arr))
+      sb ++= f"| ${ca("clockGHz").num}%.3f | ${if (ca("slackMet").bool) "yes" else "no"} | ${ca("areaMm2").num}%.3f | ${ca("dynamicPowerMw").num}%.1f | ${ca("leakagePowerMw").num}%.4f | " +
+        f"${if (cb("slackMet").bool) "yes" else "no"} | ${b("logicAreaMm2").num}%.3f | ${cb("dynamicPowerMw").num}%.1f | ${cb("leakagePowerMw").num}%.4f |\n"
+    sb ++= f"\n(a) ${a("description").str}: fmax ${a("fmaxGHz").num}%.3f GHz\n"
+    sb ++= f"(b) ${b("description").str}: fmax ${b("fmaxGHz").num}%.3f GHz (slowest: ${b("slowest")("module").str}, ${b("slowest")("path").str})\n"
+    sb ++= "    logic area by block (mm^2): " + b("areaByBlockMm2").obj.map { case (k, v) => f"$k ${v.num}%.3f" }.mkString(", ") + "\n"
+    val s = b("sram")
+    sb ++= f"    SRAM (not synthesized): ${s("bits").num}%.0f bits, ${s("areaMm2").num}%.3f mm^2 by ${s("model").str}\n"
+    sb ++= "    SRAM bits by block: " + s("bitsByBlock").obj.map { case (k, v) => f"$k ${v.num}%.0f" }.mkString(", ") + "\n"
+    sb.toString
+  }
+}

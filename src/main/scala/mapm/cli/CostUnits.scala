@@ -1,0 +1,123 @@
+package mapm.cli
+
+import mapm.MapmError
+import mapm.fpu.{FAdd, FMul}
+import mapm.model._
+import mapm.shader.{CondCheck, SOA, ShaderChain}
+import mapm.tsearch.TSA
+
+/** One operation on a unit's input ports (values in [[CostUnit.inPorts]] order) and the output
+  * values the bit-accurate model expects for it (in [[CostUnit.outPorts]] order). */
+final case class UnitOp(in: Array[BigInt], expect: Array[BigInt])
+
+/** A unit the cost flow can synthesize, simulate at gate level and check: its generator, its
+  * ports, its latency, the operations that drive it and the model's results for them.
+  *
+  * Every unit here has the valid/bits pipeline interface (`io_in_valid`, `io_out_valid`), a tag
+  * that leaves with the result, and a fixed latency; results leave in input order.
+  *
+  * @param kind      the `--unit` word
+  * @param top       module name of the emitted Verilog
+  * @param validRate fraction of cycles with an operation, as the unit sees in a 16/16/2 MAPM
+  */
+final class CostUnit(val kind: String, val top: String, gen: () => chisel3.RawModule, val latency: Int,
+                     val inPorts: IndexedSeq[String], val outPorts: IndexedSeq[String], val validRate: Double,
+                     val validRateSource: String) {
+  def module(): chisel3.RawModule = gen()
+  val validIn = "io_in_valid"
+  val validOut = "io_out_valid"
+}
+
+object CostUnits {
+  /** The units `cost --unit` knows. */
+  val kinds: Seq[String] = Seq("soa", "tsa", "cond", "fadd", "fmul")
+
+  /** Per-SOA valid rate of the Table 4.8 Cornell frame at 16/16/2 (15.33 SO/cycle over 32 SOAs,
+    * docs/mapm.md) and per-TSA rate (14.35 TS ops/cycle over 16 TSAs). */
+  val SoaRate = 15.33 / 32
+  val TsaRate = 14.35 / 16
+  private val rateNote = "16/16/2 Cornell render (docs/mapm.md)"
+
+  private val tagWidth = 16
+  private val soaIn = IndexedSeq("kernel", "brdf", "h", "power_0", "power_1", "power_2", "contrib_0", "contrib_1",
+    "contrib_2", "qx", "qy", "qz", "px", "py", "pz").map("io_in_bits_" + _) :+ "io_in_bits_tag"
+
+  /** The unit `kind` in `format` with `g` guard digits (the SOA's online units). */
+  def apply(kind: String, format: FloatFormat, g: Int): CostUnit = kind match {
+    case "soa" =>
+      MapmError.check(format.manWidth >= 4, s"cost: the SOA needs at least 4 fraction bits, format $format has ${format.manWidth}")
+      new CostUnit("soa", SOA.name(format, g), () => new SOA(format, g, tagWidth), SOA.latency(format, g), soaIn,
+        (0 until ShaderChain.Channels).map(c => s"io_out_bits_colour_$c") ++
+          (0 until ShaderChain.Channels).map(c => s"io_out_bits_flags_$c") ++ Seq("io_out_bits_cond", "io_out_bits_tag"),
+        SoaRate, rateNote)
+    case "tsa" =>
+      new CostUnit("tsa", s"TSA_${format.name}_t$tagWidth", () => new TSA(format, tagWidth), TsaModel.latency(format),
+        IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
+        IndexedSeq("io_out_bits_tcl", "io_out_bits_tcr", "io_out_bits_error", "io_out_bits_tag"), TsaRate, rateNote)
+    case "cond" =>
+      new CostUnit("cond", s"CondCheck_${format.name}_t$tagWidth", () => new CondCheck(format, tagWidth), CondCheck.latency(),
+        IndexedSeq("qx", "qy", "qz", "px", "py", "pz", "h", "tag").map("io_in_bits_" + _),
+        IndexedSeq("io_out_bits_cond", "io_out_bits_tag"), SoaRate, rateNote + ", as the SOA")
+    case "fadd" =>
+      new CostUnit("fadd", s"FAdd_${format.name}", () => new FAdd(format), FAdd.stages,
+        IndexedSeq("io_in_bits_a", "io_in_bits_b", "io_in_bits_sub"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
+    case "fmul" =>
+      new CostUnit("fmul", s"FMul_${format.name}", () => new FMul(format), FMul.stages,
+        IndexedSeq("io_in_bits_a", "io_in_bits_b"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
+    case other => MapmError.fail(s"cost: unknown unit '$other' (${kinds.mkString(", ")})")
+  }
+
+  /** `n` operations for `u` with the model's results: from the frame's shader and tree-search
+    * operations when `frame` is given, else seeded random bit patterns of the format (every
+    * value class: zeros, subnormal patterns, infinities, NaNs and normal numbers). */
+  def ops(u: CostUnit, format: FloatFormat, g: Int, frame: Option[Frame], n: Int, seed: Long): IndexedSeq[UnitOp] = {
+    val rnd = new scala.util.Random(seed)
+    def randomBits(): Long = if (rnd.nextInt(16) == 0) rnd.nextLong() & format.mask
+      else { // a normal number near 1 most of the time, so the arithmetic does real work
+        val e = (format.bias + rnd.nextInt(9) - 4).toLong
+        (rnd.nextInt(2).toLong << (format.width - 1)) | (e << format.manWidth) | (rnd.nextLong() & ((1L << format.manWidth) - 1))
+      }
+    val sos: IndexedSeq[FrameOps.So] = if (u.kind == "tsa") IndexedSeq.empty else frame match {
+      case Some(f) => FrameOps.shaderOps(f.map, f.querySet, n)
+      case None => IndexedSeq.fill(n)(FrameOps.So(Array.fill(15)(randomBits())))
+    }
+    def b(x: Long): BigInt = BigInt(x)
+    def bool(x: Boolean): BigInt = if (x) BigInt(1) else BigInt(0)
+    val mask = (1 << tagWidth) - 1
+    u.kind match {
+      case "soa" =>
+        val chain = new ShaderChainModel(format, g)
+        sos.zipWithIndex.map { case (so, i) =>
+          val res = (0 until 3).map(c => chain.colour(so.kernel, so.brdf, so.h, so.power(c), so.contrib(c)))
+          val cond = CondModel.cond(format, so.q(0), so.q(1), so.q(2), so.p(0), so.p(1), so.p(2), so.h)
+          UnitOp((so.inputs.map(b) :+ b(i & mask)).toArray,
+            (res.map(r => b(r.bits)) ++ res.map(r => b(r.flags.toLong)) ++ Seq(bool(cond), b(i & mask))).toArray)
+        }
+      case "cond" =>
+        sos.zipWithIndex.map { case (so, i) =>
+          val cond = CondModel.cond(format, so.q(0), so.q(1), so.q(2), so.p(0), so.p(1), so.p(2), so.h)
+          UnitOp(Array(so.q(0), so.q(1), so.q(2), so.p(0), so.p(1), so.p(2), so.h, (i & mask).toLong).map(b),
+            Array(bool(cond), b(i & mask)))
+        }
+      case "fadd" => // the cond check's first adders: q - p on each axis
+        sos.zipWithIndex.map { case (so, i) =>
+          val a = so.q(i % 3); val c = so.p(i % 3)
+          UnitOp(Array(b(a), b(c), BigInt(1)), Array(b(SoftFloat.sub(format, a, c))))
+        }
+      case "fmul" => // the cond check's squares of q - p
+        sos.zipWithIndex.map { case (so, i) =>
+          val d = SoftFloat.sub(format, so.q(i % 3), so.p(i % 3))
+          UnitOp(Array(b(d), b(d)), Array(b(SoftFloat.mul(format, d, d))))
+        }
+      case "tsa" =>
+        val ts = frame match {
+          case Some(f) => FrameOps.treeSearchOps(f.map, f.querySet, n)
+          case None => IndexedSeq.fill(n)(FrameOps.Ts(randomBits(), randomBits() & (format.mask >> 1), randomBits()))
+        }
+        ts.zipWithIndex.map { case (t, i) =>
+          val o = TsaModel.evaluate(format, t.p, t.h, t.s)
+          UnitOp(Array(b(t.p), b(t.h), b(t.s), b(i & mask)), Array(bool(o.tcl), bool(o.tcr), bool(o.error), b(i & mask)))
+        }
+    }
+  }
+}

@@ -1,0 +1,53 @@
+package mapm.cost
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+
+/** The figures of one synthesized unit, as `cost.json` and `cost.md` carry them.
+  *
+  * @param areaUm2    total cell area; `seqAreaUm2` the flip-flops' part
+  * @param cells      cell count per library cell
+  * @param clocks     timing and power at each requested clock (power at the unit's activity)
+  * @param activity   how the switching activity was obtained, and its averages
+  * @param check      the gate-level check: operations simulated and mismatches found
+  */
+final case class UnitCost(unit: String, top: String, format: String, g: Option[Int], library: String,
+                          abc: String, fmaxGHz: Double, areaUm2: Double, seqAreaUm2: Double,
+                          cells: Map[String, Int], clocks: Seq[Sta.AtClock], activity: ujson.Obj,
+                          check: ujson.Obj, seconds: ujson.Obj, criticalStart: String, criticalEnd: String) {
+  def combAreaUm2: Double = areaUm2 - seqAreaUm2
+
+  def json: ujson.Obj = ujson.Obj(
+    "unit" -> unit, "top" -> top, "format" -> format, "g" -> g.map(ujson.Num(_)).getOrElse(ujson.Null),
+    "library" -> library, "abc" -> abc, "fmaxGHz" -> fmaxGHz,
+    "areaUm2" -> areaUm2, "seqAreaUm2" -> seqAreaUm2, "combAreaUm2" -> combAreaUm2,
+    "criticalPath" -> ujson.Obj("start" -> criticalStart, "end" -> criticalEnd),
+    "cells" -> ujson.Obj.from(cells.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
+    "clocks" -> ujson.Arr.from(clocks.map(c => ujson.Obj(
+      "clockGHz" -> c.clockGHz, "slackMet" -> c.slackMet, "worstSlackNs" -> c.worstSlackNs,
+      "criticalPath" -> ujson.Obj("start" -> c.startPoint, "end" -> c.endPoint, "arrivalNs" -> c.arrivalNs),
+      "areaUm2" -> areaUm2, "seqAreaUm2" -> seqAreaUm2,
+      "internalPowerMw" -> c.internalMw, "switchingPowerMw" -> c.switchingMw,
+      "dynamicPowerMw" -> c.dynamicMw, "leakagePowerMw" -> c.leakageMw))),
+    "activity" -> activity, "gateLevelCheck" -> check, "seconds" -> seconds)
+
+  /** A table in the layout of the dissertation's Tables 4.3/4.4: per target clock, slack met,
+    * total dynamic power, cell leakage, area. */
+  def markdown: String = {
+    val sb = new StringBuilder
+    sb ++= s"$unit ($top), format $format${g.map(x => s", g = $x").getOrElse("")}, library $library, ABC script $abc\n\n"
+    sb ++= "| clock (GHz) | slack met? | worst slack (ns) | dynamic power (mW) | cell leakage (uW) | area (um^2) |\n"
+    sb ++= "|---:|:---:|---:|---:|---:|---:|\n"
+    for (c <- clocks)
+      sb ++= f"| ${c.clockGHz}%.3f | ${if (c.slackMet) "yes" else "no"} | ${c.worstSlackNs}%.3f | ${c.dynamicMw}%.3f | ${c.leakageMw * 1e3}%.3f | $areaUm2%.0f |\n"
+    sb ++= f"\nfmax $fmaxGHz%.3f GHz (critical path $criticalStart -> $criticalEnd); area $areaUm2%.0f um^2 " +
+      f"(sequential $seqAreaUm2%.0f, combinational $combAreaUm2%.0f), ${cells.values.sum} cells\n"
+    sb.toString
+  }
+
+  def write(dir: Path): Unit = {
+    Files.createDirectories(dir)
+    Files.write(dir.resolve("cost.json"), ujson.write(json, indent = 2).getBytes(StandardCharsets.UTF_8))
+    Files.write(dir.resolve("cost.md"), markdown.getBytes(StandardCharsets.UTF_8))
+  }
+}

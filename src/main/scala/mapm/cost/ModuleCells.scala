@@ -1,0 +1,36 @@
+package mapm.cost
+
+import java.nio.file.{Files, Path}
+import mapm.MapmError
+
+/** The cells of each module of a hierarchical yosys JSON netlist, by module: its own library
+  * cells (area from the Liberty file, sequential part apart) and the submodules it instantiates.
+  * The whole-configuration cost multiplies each module's own figures by its instance count.
+  */
+object ModuleCells {
+  /** One module's own cells. `children` lists a submodule type per instance. */
+  final case class Own(module: String, cells: Int, areaUm2: Double, seqAreaUm2: Double, counts: Map[String, Int],
+                       children: Seq[String])
+
+  def read(json: Path, lib: Liberty.Library): Map[String, Own] = {
+    MapmError.check(Files.isRegularFile(json), s"cost: netlist $json not found")
+    val root = ujson.read(Files.readAllBytes(json))
+    val modules = root.obj.get("modules").map(_.obj).getOrElse(MapmError.fail(s"$json: not a yosys netlist (no modules)"))
+    modules.map { case (name, m) =>
+      val cells = m.obj.get("cells").map(_.obj.values.toSeq).getOrElse(Nil).map(_.obj("type").str)
+      val (leaf, sub) = cells.partition(lib.cells.contains)
+      val unknown = sub.filterNot(modules.contains)
+      MapmError.check(unknown.isEmpty, s"cost: $json: module $name uses ${unknown.head}, neither a cell of ${lib.name} nor a module")
+      val libCells = leaf.map(lib.cells)
+      name -> Own(name, leaf.size, libCells.map(_.area).sum, libCells.filter(_.isSequential).map(_.area).sum,
+        leaf.groupBy(identity).map { case (t, s) => t -> s.size }, sub)
+    }.toMap
+  }
+
+  /** Cells in `m` and everything under it. */
+  def subtreeCells(own: Map[String, Own], m: String): Long = {
+    val memo = scala.collection.mutable.Map.empty[String, Long]
+    def go(x: String): Long = memo.getOrElseUpdate(x, own.get(x).map(o => o.cells + o.children.map(go).sum).getOrElse(0L))
+    go(m)
+  }
+}

@@ -1,0 +1,127 @@
+package mapm.cost
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+import mapm.MapmError
+import scala.sys.process._
+
+/** Static timing and power of a synthesized netlist by OpenSTA (Debian's `opensta`, 2019).
+  *
+  * One OpenSTA session per netlist: the clock is created on port `clock` with every other input
+  * arriving and every output required at the clock edge (register-to-register, input-to-register
+  * and register-to-output paths, as a unit in a pipeline). For each requested clock it reports
+  * the worst setup slack, the critical path and the power; fmax is found by bisection on the
+  * period (to 0.5 ps) with the same netlist.
+  *
+  * Power uses the switching activity handed in per pin (transitions per clock cycle and the
+  * fraction of time high): OpenSTA turns it into transitions per second at each clock. This
+  * OpenSTA has no read_vcd/read_saif, its `set_power_activity -pins` is broken, and activities set
+  * before the first `report_power` are dropped; so the script calls `report_power` once, then sets
+  * every pin with `sta::set_power_pin_activity` (ports with `sta::set_power_input_port_activity`).
+  */
+object Sta {
+  /** Timing and power at one clock. Power in mW, times in ns. */
+  final case class AtClock(clockGHz: Double, periodNs: Double, worstSlackNs: Double, startPoint: String,
+                           endPoint: String, arrivalNs: Double, internalMw: Double, switchingMw: Double,
+                           leakageMw: Double) {
+    def slackMet: Boolean = worstSlackNs >= 0
+    def dynamicMw: Double = internalMw + switchingMw
+  }
+  final case class Report(clocks: Seq[AtClock], fmaxGHz: Double, seconds: Double)
+
+  /** Activity of one pin or input port: transitions per clock cycle and duty (fraction of time 1). */
+  final case class Activity(activity: Double, duty: Double)
+
+  /** Runs OpenSTA on `netlists` (module `top`) at each clock in `clocksGHz`. `pinActivity` maps
+    * instance pins (`inst/PIN`) and `portActivity` input port bits (`name[i]` or `name`) to their
+    * activity; `defaultActivity` applies to whatever is not listed (OpenSTA propagates it through
+    * the logic). Writes the script and log into `dir`. */
+  def run(netlists: Seq[Path], top: String, lib: Path, clocksGHz: Seq[Double], dir: Path,
+          pinActivity: Iterable[(String, Activity)], portActivity: Iterable[(String, Activity)],
+          defaultActivity: Activity = Activity(0.1, 0.5), clockPort: String = "clock"): Report = {
+    MapmError.check(clocksGHz.nonEmpty && clocksGHz.forall(c => c > 0 && c < 100), s"cost: clocks must be in (0, 100) GHz, got ${clocksGHz.mkString(",")}")
+    Files.createDirectories(dir)
+    val tcl = dir.resolve("sta.tcl")
+    val act = dir.resolve("activity.tcl")
+    val w = Files.newBufferedWriter(act, StandardCharsets.UTF_8)
+    try {
+      for ((pin, a) <- pinActivity) w.write(f"sta::set_power_pin_activity [get_pins {$pin}] ${a.activity}%.6g ${a.duty}%.6g\n")
+      for ((port, a) <- portActivity) w.write(f"sta::set_power_input_port_activity [get_ports {$port}] ${a.activity}%.6g ${a.duty}%.6g\n")
+    } finally w.close()
+    val periods = clocksGHz.map(1.0 / _)
+    val script =
+      s"""|read_liberty {$lib}
+          |${netlists.map(n => s"read_verilog {$n}").mkString("\n")}
+          |link_design {$top}
+          |set clk_port [get_ports -quiet {$clockPort}]
+          |proc mapm_clock {period} {
+          |  global clk_port
+          |  if {[llength $$clk_port] > 0} { create_clock -name clk -period $$period $$clk_port } else { create_clock -name clk -period $$period }
+          |  set ins [all_inputs]
+          |  if {[llength $$clk_port] > 0} { set ins [delete_from_list $$ins $$clk_port] }
+          |  if {[llength $$ins] > 0} { set_input_delay 0 -clock clk $$ins }
+          |  if {[llength [all_outputs]] > 0} { set_output_delay 0 -clock clk [all_outputs] }
+          |}
+          |proc mapm_slack {} { return [sta::worst_slack -max] }
+          |mapm_clock ${periods.head}
+          |set_power_activity -global -activity ${defaultActivity.activity} -duty ${defaultActivity.duty}
+          |set_power_activity -input -activity ${defaultActivity.activity} -duty ${defaultActivity.duty}
+          |report_power > /dev/null
+          |source {$act}
+          |foreach period {${periods.mkString(" ")}} {
+          |  mapm_clock $$period
+          |  puts "MAPM_CLOCK $$period [mapm_slack]"
+          |  report_checks -path_delay max -digits 4 -format full
+          |  report_power -digits 6
+          |  puts "MAPM_END"
+          |}
+          |# fmax by bisection on the period (lo fails, hi meets), bracketed around period - slack
+          |mapm_clock ${periods.head}
+          |set d [expr ${periods.head} - [mapm_slack]]
+          |set hi [expr $$d * 1.01 + 0.001]
+          |mapm_clock $$hi
+          |while {[mapm_slack] < 0} { set hi [expr $$hi * 1.1]; mapm_clock $$hi }
+          |set lo [expr $$d * 0.99]
+          |mapm_clock $$lo
+          |while {[mapm_slack] >= 0 && $$lo > 1e-6} { set lo [expr $$lo * 0.9]; mapm_clock $$lo }
+          |while {$$hi - $$lo > 0.0005} {
+          |  set mid [expr ($$lo + $$hi) / 2.0]
+          |  mapm_clock $$mid
+          |  if {[mapm_slack] >= 0} { set hi $$mid } else { set lo $$mid }
+          |}
+          |puts "MAPM_FMAX_PERIOD $$hi"
+          |exit
+          |""".stripMargin
+    Files.write(tcl, script.getBytes(StandardCharsets.UTF_8))
+    val sta = CostTools.get.sta
+    val t0 = System.nanoTime()
+    val out = new StringBuilder
+    val rc = Process(Seq(sta.toString, "-no_init", "-no_splash", "-exit", tcl.toString), dir.toFile)
+      .!(ProcessLogger(l => out.append(l).append('\n'), l => out.append(l).append('\n')))
+    Files.write(dir.resolve("sta.log"), out.toString.getBytes(StandardCharsets.UTF_8))
+    val text = out.toString
+    val errors = text.linesIterator.filter(l => l.startsWith("Error") || l.contains("error:")).toSeq
+    if (rc != 0 || errors.nonEmpty || !text.contains("MAPM_FMAX_PERIOD"))
+      MapmError.fail(s"OpenSTA failed on $top: ${errors.headOption.getOrElse(s"exit $rc")} (log ${dir.resolve("sta.log")})")
+    Report(parseClocks(text), 1.0 / """MAPM_FMAX_PERIOD ([0-9.eE+-]+)""".r.findFirstMatchIn(text).get.group(1).toDouble,
+      (System.nanoTime() - t0) / 1e9)
+  }
+
+  private val num = """(-?[0-9.]+(?:[eE][+-]?[0-9]+)?)"""
+
+  /** The per-clock sections of the log. */
+  private[cost] def parseClocks(text: String): Seq[AtClock] =
+    text.split("MAPM_CLOCK ").drop(1).toSeq.map { sec =>
+      val body = sec.takeWhile(_ => true).split("MAPM_END")(0)
+      val head = body.linesIterator.next().trim.split("\\s+")
+      val period = head(0).toDouble
+      val slack = head(1).toDouble
+      val start = """Startpoint: (\S+)""".r.findFirstMatchIn(body).map(_.group(1)).getOrElse("-")
+      val end = """Endpoint: (\S+)""".r.findFirstMatchIn(body).map(_.group(1)).getOrElse("-")
+      val arrival = (num + """\s+data arrival time""").r.findFirstMatchIn(body).map(_.group(1).toDouble).getOrElse(0.0)
+      val total = ("""(?m)^Total\s+""" + num + """\s+""" + num + """\s+""" + num + """\s+""" + num).r.findFirstMatchIn(body)
+        .getOrElse(MapmError.fail("OpenSTA printed no power total"))
+      AtClock(1.0 / period, period, slack, start, end, arrival,
+        total.group(1).toDouble * 1e3, total.group(2).toDouble * 1e3, total.group(3).toDouble * 1e3)
+    }
+}

@@ -1,0 +1,58 @@
+package mapm.model
+
+/** The operations a frame gives its arithmetic units, in search order, as bit patterns of the
+  * frame's format: the inputs of every shader operation (for the SOA and the cond check) and of
+  * every tree-search operation (for the TSA). The cost flow simulates the synthesized units on
+  * them, so that their switching activity is the activity of a real frame.
+  */
+object FrameOps {
+  /** One shader operation's inputs, in the order of the SOA's data ports: kernel, BRDF, h, power
+    * r/g/b, contribution r/g/b, query x/y/z, photon x/y/z. */
+  final case class So(inputs: Array[Long]) {
+    def kernel: Long = inputs(0); def brdf: Long = inputs(1); def h: Long = inputs(2)
+    def power(c: Int): Long = inputs(3 + c); def contrib(c: Int): Long = inputs(6 + c)
+    def q(axis: Int): Long = inputs(9 + axis); def p(axis: Int): Long = inputs(12 + axis)
+  }
+
+  /** One tree-search operation: query coordinate p on the node's axis, radius h, split s. */
+  final case class Ts(p: Long, h: Long, s: Long)
+
+  /** The first `limit` shader operations of the frame's queries, in search order. */
+  def shaderOps(map: PhotonMap, queries: QuerySet, limit: Int): IndexedSeq[So] = {
+    val out = scala.collection.mutable.ArrayBuffer.empty[So]
+    val searcher = new TreeSearcher(map.search)
+    var q = 0
+    while (q < queries.size && out.length < limit) {
+      searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
+      var k = 0
+      while (k < searcher.soCount && out.length < limit) {
+        val i = searcher.so(k)
+        out += So(Array(map.kernel(i), map.brdf(i), map.h, map.power(0)(i), map.power(1)(i), map.power(2)(i),
+          queries.contribution(0)(q), queries.contribution(1)(q), queries.contribution(2)(q),
+          queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i)))
+        k += 1
+      }
+      q += 1
+    }
+    out.toIndexedSeq
+  }
+
+  /** The first `limit` tree-search operations of the frame's queries, in search order. */
+  def treeSearchOps(map: PhotonMap, queries: QuerySet, limit: Int): IndexedSeq[Ts] = {
+    val out = scala.collection.mutable.ArrayBuffer.empty[Ts]
+    val searcher = new TreeSearcher(map.search)
+    var q = 0
+    while (q < queries.size && out.length < limit) {
+      searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
+      val coord = Array(queries.qx(q), queries.qy(q), queries.qz(q))
+      var k = 0
+      while (k < searcher.tsCount && out.length < limit) {
+        val i = searcher.visited(k)
+        out += Ts(coord(NodeWord.axis(map.search.word(i))), map.h, map.split(i))
+        k += 1
+      }
+      q += 1
+    }
+    out.toIndexedSeq
+  }
+}

@@ -1,0 +1,103 @@
+package mapm.cost
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+import org.scalatest.funsuite.AnyFunSuite
+
+/** OpenSTA through [[Sta]] on hand-written OSU 0.18 um netlists, against bounds read from the
+  * Liberty file by this test's own code (a few regular expressions, not [[Liberty]]). */
+class StaSpec extends AnyFunSuite {
+  private def tools(): CostTools.Paths3 = CostTools.available.fold(
+    why => cancel(s"cost tools (yosys, OpenSTA, OSU 0.18 um cells) unavailable: $why"), identity)
+
+  /** This test's own reading of one cell of the Liberty text. */
+  private final case class CellData(area: Double, leakageNw: Double, body: String) {
+    private def values(group: String): Seq[Double] =
+      (group + """\s*\([^)]*\)\s*\{[^}]*?values\s*\(([^)]*)\)""").r.findAllMatchIn(body).toSeq
+        .flatMap(_.group(1).replaceAll("""[\\"\s]""", "").split(",").filter(_.nonEmpty).map(_.toDouble))
+    def delays: Seq[Double] = values("cell_rise") ++ values("cell_fall")
+    def riseEnergy: Seq[Double] = values("rise_power")
+    def fallEnergy: Seq[Double] = values("fall_power")
+    def pinCap(pin: String): Double =
+      ("""pin\s*\(\s*""" + pin + """\s*\)\s*\{\s*[^}]*?\bcapacitance\s*:\s*([0-9.eE+-]+)""").r.findFirstMatchIn(body).get.group(1).toDouble
+  }
+  private def cell(name: String): CellData = {
+    val text = new String(Files.readAllBytes(tools().osu018Lib), StandardCharsets.ISO_8859_1)
+    val start = text.indexOf(s"cell ($name)")
+    assert(start >= 0, s"$name not in the library")
+    val end = text.indexOf("\ncell (", start + 1) match { case -1 => text.length; case e => e }
+    val body = text.substring(start, end)
+    CellData("""area\s*:\s*([0-9.eE+-]+)""".r.findFirstMatchIn(body).get.group(1).toDouble,
+      """cell_leakage_power\s*:\s*([0-9.eE+-]+)""".r.findFirstMatchIn(body).get.group(1).toDouble, body)
+  }
+
+  private def write(text: String): Path = {
+    val f = Files.createTempDirectory("mapm-sta").resolve("net.v")
+    Files.write(f, text.getBytes(StandardCharsets.UTF_8))
+    f
+  }
+  private def register(n: Int): Path = write(
+    s"module reg$n(clock, d, q);\n  input clock;\n  input [${n - 1}:0] d;\n  output [${n - 1}:0] q;\n" +
+      (0 until n).map(i => s"  DFFPOSX1 r$i (.CLK(clock), .D(d[$i]), .Q(q[$i]));\n").mkString + "endmodule\n")
+  private def chain(k: Int): Path = write(
+    s"module chain$k(clock, a, y);\n  input clock;\n  input a;\n  output y;\n" +
+      (1 until k).map(i => s"  wire n$i;\n").mkString +
+      (0 until k).map { i =>
+        val in = if (i == 0) "a" else s"n$i"; val out = if (i == k - 1) "y" else s"n${i + 1}"
+        s"  INVX1 u$i (.A($in), .Y($out));\n"
+      }.mkString + "endmodule\n")
+  private def sta(net: Path, top: String, clocks: Seq[Double], pins: Seq[(String, Sta.Activity)] = Nil,
+                  ports: Seq[(String, Sta.Activity)] = Nil) =
+    Sta.run(Seq(net), top, tools().osu018Lib, clocks, net.getParent.resolve("sta"), pins, ports)
+
+  test("a chain of K inverters: delay within K times the INVX1 table bounds") {
+    val inv = cell("INVX1")
+    for (k <- Seq(1, 5, 20)) {
+      val r = sta(chain(k), s"chain$k", Seq(0.1))
+      val arrival = r.clocks.head.arrivalNs
+      assert(arrival >= k * inv.delays.min - 1e-9 && arrival <= k * inv.delays.max + 1e-9,
+        s"K = $k: arrival $arrival ns outside [${k * inv.delays.min}, ${k * inv.delays.max}]")
+      assert(math.abs(r.clocks.head.worstSlackNs - (10.0 - arrival)) < 1e-3, "slack is the period less the path")
+      assert(math.abs(1.0 / r.fmaxGHz - arrival) < 2e-3, s"fmax ${r.fmaxGHz} GHz against a path of $arrival ns")
+    }
+  }
+
+  test("a register of N flip-flops: leakage is the Liberty sum; zero data activity leaves the clock's energy only") {
+    val dff = cell("DFFPOSX1")
+    val n = 16
+    val net = register(n)
+    val zero = Sta.Activity(0, 0.5)
+    val pins = (0 until n).flatMap(i => Seq(s"r$i/D" -> zero, s"r$i/Q" -> zero))
+    val ports = (0 until n).map(i => s"d[$i]" -> zero)
+    val f = 0.5
+    val r = sta(net, s"reg$n", Seq(f), pins, ports).clocks.head
+    assert(math.abs(r.leakageMw - n * dff.leakageNw * 1e-6) < 1e-9, s"leakage ${r.leakageMw} mW")
+    // Per flip-flop and cycle: the CLK pin's rise and fall energies (pJ) and at most the clock net's C V^2.
+    val perCycle = r.dynamicMw / f / n
+    val capPf = dff.pinCap("CLK")
+    val lo = dff.riseEnergy.min + dff.fallEnergy.min
+    val hi = dff.riseEnergy.max + dff.fallEnergy.max + capPf * 1.8 * 1.8
+    assert(perCycle >= lo - 1e-9 && perCycle <= hi + 1e-9, s"$perCycle pJ per flip-flop cycle outside [$lo, $hi]")
+    // Still clock only whatever the data's duty, and data that moves costs more.
+    val r2 = sta(net, s"reg$n", Seq(f), pins.map { case (p, _) => p -> Sta.Activity(0, 0.9) },
+      ports.map { case (p, _) => p -> Sta.Activity(0, 0.9) }).clocks.head
+    assert(math.abs(r2.dynamicMw - r.dynamicMw) < 1e-9)
+    val busy = Sta.Activity(0.5, 0.5)
+    val r3 = sta(net, s"reg$n", Seq(f), pins.map { case (p, _) => p -> busy }, ports.map { case (p, _) => p -> busy }).clocks.head
+    assert(r3.dynamicMw > r.dynamicMw * 1.01, s"${r3.dynamicMw} mW with moving data against ${r.dynamicMw} mW")
+  }
+
+  test("dynamic power is proportional to the clock at a fixed activity per cycle; leakage does not move") {
+    val n = 8
+    val act = Sta.Activity(0.3, 0.5)
+    val pins = (0 until n).flatMap(i => Seq(s"r$i/D" -> act, s"r$i/Q" -> act))
+    val ports = (0 until n).map(i => s"d[$i]" -> act)
+    val rs = sta(register(n), s"reg$n", Seq(0.25, 0.5, 1.0), pins, ports).clocks
+    for (Seq(a, b) <- rs.sliding(2)) {
+      assert(b.dynamicMw > a.dynamicMw)
+      assert(math.abs(b.dynamicMw / a.dynamicMw - b.clockGHz / a.clockGHz) < 1e-4, s"${a.dynamicMw} -> ${b.dynamicMw} mW")
+      assert(b.leakageMw == a.leakageMw)
+    }
+  }
+}
+
