@@ -36,7 +36,7 @@ object ConfigCost {
 
   private def block(chain: Seq[String]): String =
     chain.reverseIterator.collectFirst {
-      case m if m.startsWith("ReadOnlyCache") || m.startsWith("RegisterStack") => if (m.startsWith("ReadOnlyCache")) "caches" else "TS block"
+      case m if m.startsWith("ROCache") => "caches"
       case m if m.startsWith("MemArbiter") => "arbiter"
       case m if m.startsWith("TsBlock") => "TS block"
       case m if m.startsWith("SoBlock") => "SO block"
@@ -50,11 +50,10 @@ object ConfigCost {
     val nSoa = p.counts.som * p.counts.soaPerSom
     val nTsa = p.counts.tsm
     // (a) unit figures times counts; dynamic power scales with the clock at a fixed activity per cycle.
-    def pj(u: UnitCost): Double = u.clocks.head.dynamicMw / u.clocks.head.clockGHz
     val fmaxA = math.min(soa.fmaxGHz, tsa.fmaxGHz)
     def methodA(clk: Double): ujson.Obj = ujson.Obj("clockGHz" -> clk, "slackMet" -> (clk <= fmaxA + 1e-9),
       "areaMm2" -> (nSoa * soa.areaUm2 + nTsa * tsa.areaUm2) / 1e6,
-      "dynamicPowerMw" -> (nSoa * pj(soa) + nTsa * pj(tsa)) * clk,
+      "dynamicPowerMw" -> (nSoa * soa.dynamicMwAt(clk) + nTsa * tsa.dynamicMwAt(clk)),
       "leakagePowerMw" -> (nSoa * soa.clocks.head.leakageMw + nTsa * tsa.clocks.head.leakageMw))
 
     // (b) every module's logic.

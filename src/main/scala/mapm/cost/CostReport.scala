@@ -17,9 +17,17 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
                           check: ujson.Obj, seconds: ujson.Obj, criticalStart: String, criticalEnd: String) {
   def combAreaUm2: Double = areaUm2 - seqAreaUm2
 
+  /** Dynamic energy per clock cycle (pJ) at the measured activity: OpenSTA's dynamic power is
+    * this energy times the clock, at every clock. */
+  def dynamicPjPerCycle: Double = clocks.head.dynamicMw / clocks.head.clockGHz
+  /** Dynamic power (mW) at clock `ghz`. */
+  def dynamicMwAt(ghz: Double): Double = dynamicPjPerCycle * ghz
+
   def json: ujson.Obj = ujson.Obj(
     "unit" -> unit, "top" -> top, "format" -> format, "g" -> g.map(ujson.Num(_)).getOrElse(ujson.Null),
     "library" -> library, "abc" -> abc, "fmaxGHz" -> fmaxGHz,
+    "atFmax" -> ujson.Obj("clockGHz" -> fmaxGHz, "dynamicPowerMw" -> dynamicMwAt(fmaxGHz),
+      "leakagePowerMw" -> clocks.head.leakageMw, "dynamicPjPerCycle" -> dynamicPjPerCycle),
     "areaUm2" -> areaUm2, "seqAreaUm2" -> seqAreaUm2, "combAreaUm2" -> combAreaUm2,
     "criticalPath" -> ujson.Obj("start" -> criticalStart, "end" -> criticalEnd),
     "cells" -> ujson.Obj.from(cells.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
@@ -40,7 +48,8 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     sb ++= "|---:|:---:|---:|---:|---:|---:|\n"
     for (c <- clocks)
       sb ++= f"| ${c.clockGHz}%.3f | ${if (c.slackMet) "yes" else "no"} | ${c.worstSlackNs}%.3f | ${c.dynamicMw}%.3f | ${c.leakageMw * 1e3}%.3f | $areaUm2%.0f |\n"
-    sb ++= f"\nfmax $fmaxGHz%.3f GHz (critical path $criticalStart -> $criticalEnd); area $areaUm2%.0f um^2 " +
+    sb ++= f"\nfmax $fmaxGHz%.3f GHz (critical path $criticalStart -> $criticalEnd); dynamic power at fmax " +
+      f"${dynamicMwAt(fmaxGHz)}%.3f mW ($dynamicPjPerCycle%.1f pJ per cycle); area $areaUm2%.0f um^2 " +
       f"(sequential $seqAreaUm2%.0f, combinational $combAreaUm2%.0f), ${cells.values.sum} cells\n"
     sb.toString
   }
