@@ -5,7 +5,7 @@ import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cost._
 import mapm.model.{FloatFormat, Frame}
-import mapm.sim.Emit
+import mapm.sim.{Emit, Verilator, VerilatorPipe}
 import Args.FloatFormatReader
 import scala.concurrent.{Await, Future}
 import scala.concurrent.duration.Duration
@@ -23,7 +23,7 @@ object CostCommand extends Command {
 
   @main
   def cost(
-      @arg(doc = "unit: soa, tsa, cond, fadd, fmul (or give --tsm/--som/--soa for a whole MAPM)") unit: Option[String] = None,
+      @arg(doc = "unit: soa, tsa, cond, fadd, fmul, mul, div (or give --tsm/--som/--soa for a whole MAPM)") unit: Option[String] = None,
       @arg(doc = "Tree Search Modules of a whole MAPM") tsm: Option[Int] = None,
       @arg(doc = "Shader Operation Modules of a whole MAPM") som: Option[Int] = None,
       @arg(doc = "SOAs per SOM of a whole MAPM") soa: Option[Int] = None,
@@ -33,7 +33,7 @@ object CostCommand extends Command {
       @arg(doc = "Liberty file (default: OSU 0.18 um, installed on first use)") lib: Option[String] = None,
       @arg(doc = "ABC script: plain, buffer, or both (keep the faster netlist)") abc: String = "both",
       @arg(doc = "operations for the gate-level simulation (activity and check)") ops: Int = 32768,
-      @arg(doc = "operations from: frame (the scene's SOs / TS ops) or random (seeded bit patterns)") stimulus: String = "frame",
+      @arg(doc = "operations from: frame (the scene's SOs / TS ops; mul and div always take random digits) or random (seeded bit patterns)") stimulus: String = "frame",
       @arg(doc = "scene whose operations drive the simulation") scene: String = "test-scenes/cornell-box/scene.json",
       @arg(doc = "seed of the valid pattern and of random operations") seed: Long = 1,
       @arg(doc = "output directory") out: String = "out/cost"
@@ -50,9 +50,12 @@ object CostCommand extends Command {
       case (Some(u), 0) =>
         val cu = CostUnits(u, format, g)
         val flow = CostFlow(libPath, clocks, abc, Paths.get(out))
-        val frame = if (stimulus == "frame") Some(CostFlow.frame(scene, format)) else None
-        val r = flow.unit(cu, format, if (u == "soa") Some(g) else None,
-          CostUnits.ops(cu, format, g, frame, ops, seed), seed, if (stimulus == "frame") s"SOs/TS ops of $scene" else s"random (seed $seed)")
+        val useFrame = stimulus == "frame" && cu.checksModel
+        val frame = if (useFrame) Some(CostFlow.frame(scene, format)) else None
+        val source = if (useFrame) s"SOs/TS ops of $scene"
+          else if (cu.checksModel) s"random operations (seed $seed)" else s"random digit streams (seed $seed)"
+        val r = flow.unit(cu, format, if (Seq("soa", "mul", "div").contains(u)) Some(g) else None,
+          CostUnits.ops(cu, format, g, frame, ops, seed), seed, source)
         print(r.markdown)
         println(s"wrote ${Paths.get(out).resolve("cost.json")} and cost.md")
         0
@@ -128,10 +131,15 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
     val t2 = System.nanoTime()
     val netlist = Netlist.read(syn.json, Some(u.top))
     val area = netlist.area(library)
+    val rtl = if (Verilator.available) {
+      log(s"building the RTL of ${u.top} in Verilator (for the gate-level check) ...")
+      Some(VerilatorPipe.build(u.module(), CostTools.root.resolve("target/verilator-pipe")))
+    } else None
+    MapmError.check(rtl.isDefined || u.checksModel, s"cost: --unit ${u.kind} is checked against its RTL, and verilator is not installed")
     log(s"gate-level simulation of ${ops.length} operations ...")
-    val gl = GateLevel.run(u, netlist, library, ops, seed)
+    val gl = GateLevel.run(u, netlist, library, ops, seed, rtl)
     MapmError.check(gl.mismatches == 0,
-      s"cost: the synthesized ${u.top} differs from the model in ${gl.mismatches} of ${gl.checked} operations; first: ${gl.first.getOrElse("")}")
+      s"cost: the synthesized ${u.top} differs from the model or the RTL (${gl.mismatches} mismatches); first: ${gl.first.getOrElse("")}")
     val t3 = System.nanoTime()
     log(s"timing and power at ${clocksGHz.mkString(", ")} GHz ...")
     val sta = Sta.run(Seq(syn.verilog), u.top, libPath, clocksGHz, out.resolve("sta"), gl.pinActivity, gl.portActivity)
@@ -148,7 +156,8 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
         "method" -> "zero-delay gate-level simulation of the netlist, 64 lanes; toggles per net per cycle",
         "cycles" -> gl.cycles.toDouble, "lanes" -> GateLevel.Lanes, "meanActivity" -> gl.meanActivity,
         "flopOutputActivity" -> gl.flopActivity),
-      ujson.Obj("operations" -> gl.checked, "mismatches" -> gl.mismatches),
+      ujson.Obj("operations" -> ops.length, "modelChecked" -> gl.checked, "rtlChecked" -> gl.rtlChecked.toDouble,
+        "rtl" -> gl.rtlNote, "mismatches" -> gl.mismatches),
       ujson.Obj("emit" -> (t1 - t0) / 1e9, "synthesis" -> (t2 - t1) / 1e9, "gateLevel" -> (t3 - t2) / 1e9,
         "sta" -> (t4 - t3) / 1e9, "total" -> secs(t0),
         "abcTried" -> ujson.Obj.from(tried.map { case (s, f) => s -> ujson.Num(f) })),

@@ -3,7 +3,7 @@ package mapm.cli
 import mapm.MapmError
 import mapm.fpu.{FAdd, FMul}
 import mapm.model._
-import mapm.shader.{CondCheck, SOA, ShaderChain}
+import mapm.shader.{CondCheck, OnlineDiv, OnlineMul, SOA, ShaderChain}
 import mapm.tsearch.TSA
 
 /** One operation on a unit's input ports (values in [[CostUnit.inPorts]] order) and the output
@@ -13,24 +13,29 @@ final case class UnitOp(in: Array[BigInt], expect: Array[BigInt])
 /** A unit the cost flow can synthesize, simulate at gate level and check: its generator, its
   * ports, its latency, the operations that drive it and the model's results for them.
   *
-  * Every unit here has the valid/bits pipeline interface (`io_in_valid`, `io_out_valid`), a tag
-  * that leaves with the result, and a fixed latency; results leave in input order.
+  * A unit with a valid input (`validIn`) is a pipeline with a tag that leaves with the result
+  * after a fixed latency, in input order; its operations carry the model's expected outputs. A
+  * free-running unit (`validIn` empty: the online multiplier and divider, one digit per stage per
+  * cycle) takes a row of inputs every cycle and is checked against its RTL alone.
   *
   * @param kind      the `--unit` word
   * @param top       module name of the emitted Verilog
+  * @param inPorts   the data inputs an operation sets (for a free-running unit: every input)
+  * @param outPorts  the outputs compared (on valid cycles, or every cycle)
   * @param validRate fraction of cycles with an operation, as the unit sees in a 16/16/2 MAPM
   */
 final class CostUnit(val kind: String, val top: String, gen: () => chisel3.RawModule, val latency: Int,
                      val inPorts: IndexedSeq[String], val outPorts: IndexedSeq[String], val validRate: Double,
-                     val validRateSource: String) {
+                     val validRateSource: String, val validIn: Option[String] = Some("io_in_valid"),
+                     val validOut: Option[String] = Some("io_out_valid")) {
   def module(): chisel3.RawModule = gen()
-  val validIn = "io_in_valid"
-  val validOut = "io_out_valid"
+  /** Whether operations carry the model's outputs (units with a valid input do). */
+  def checksModel: Boolean = validIn.isDefined
 }
 
 object CostUnits {
   /** The units `cost --unit` knows. */
-  val kinds: Seq[String] = Seq("soa", "tsa", "cond", "fadd", "fmul")
+  val kinds: Seq[String] = Seq("soa", "tsa", "cond", "fadd", "fmul", "mul", "div")
 
   /** Per-SOA valid rate of the Table 4.8 Cornell frame at 16/16/2 (15.33 SO/cycle over 32 SOAs,
     * docs/mapm.md) and per-TSA rate (14.35 TS ops/cycle over 16 TSAs). */
@@ -64,6 +69,18 @@ object CostUnits {
     case "fmul" =>
       new CostUnit("fmul", s"FMul_${format.name}", () => new FMul(format), FMul.stages,
         IndexedSeq("io_in_bits_a", "io_in_bits_b"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
+    case "mul" | "div" =>
+      MapmError.check(format.manWidth >= 4, s"cost: the online units need at least 4 fraction bits, format $format has ${format.manWidth}")
+      val n = format.manWidth + 1
+      val digits = n + g
+      // The SOA's per-channel multipliers (MUL2, MUL3) and its divider, as ShaderChain sizes them.
+      val (gen, top, xLen, latency, yName, outName) =
+        if (kind == "mul") (() => new OnlineMul(n, digits, digits), s"OnlineMul_n${n}_N${digits}_x$digits", digits, digits + 3, "y", "p")
+        else (() => new OnlineDiv(n, digits, digits + 1), s"OnlineDiv_n${n}_N${digits}_x${digits + 1}", digits + 1, digits + 4, "d", "q")
+      val xs = (0 until xLen).flatMap(i => Seq(s"io_x_${i}_pos", s"io_x_${i}_neg"))
+      new CostUnit(kind, top, gen, latency, xs ++ (0 until n).map(i => s"io_${yName}_$i"),
+        (0 until digits).flatMap(i => Seq(s"io_${outName}_${i}_pos", s"io_${outName}_${i}_neg")), 1.0,
+        "every cycle (a digit per stage per cycle)", validIn = None, validOut = None)
     case other => MapmError.fail(s"cost: unknown unit '$other' (${kinds.mkString(", ")})")
   }
 
@@ -74,9 +91,23 @@ object CostUnits {
     val rnd = new scala.util.Random(seed)
     def randomBits(): Long = if (rnd.nextInt(16) == 0) rnd.nextLong() & format.mask
       else { // a normal number near 1 most of the time, so the arithmetic does real work
-        val e = (format.bias + rnd.nextInt(9) - 4).toLong
+        val e = math.min(math.max(format.bias + rnd.nextInt(9) - 4, 1), (1 << format.expWidth) - 2).toLong
         (rnd.nextInt(2).toLong << (format.width - 1)) | (e << format.manWidth) | (rnd.nextLong() & ((1L << format.manWidth) - 1))
       }
+    if (!u.checksModel) { // each digit 0, +1 or -1 as (pos, neg) pairs; the other inputs random bits
+      MapmError.check(frame.isEmpty, s"cost: --unit ${u.kind} takes random digit streams: use --stimulus random")
+      return IndexedSeq.fill(n) {
+        val row = new Array[BigInt](u.inPorts.length)
+        var i = 0
+        while (i < row.length) {
+          if (u.inPorts(i).endsWith("_pos")) {
+            val d = rnd.nextInt(3)
+            row(i) = BigInt(if (d == 1) 1 else 0); row(i + 1) = BigInt(if (d == 2) 1 else 0); i += 2
+          } else { row(i) = BigInt(rnd.nextInt(2)); i += 1 }
+        }
+        UnitOp(row, Array.empty)
+      }
+    }
     val sos: IndexedSeq[FrameOps.So] = if (u.kind == "tsa") IndexedSeq.empty else frame match {
       case Some(f) => FrameOps.shaderOps(f.map, f.querySet, n)
       case None => IndexedSeq.fill(n)(FrameOps.So(Array.fill(15)(randomBits())))

@@ -1,26 +1,38 @@
 package mapm.cli
 
 import mapm.cost.{GateSim, Liberty, Netlist, Sta}
+import mapm.sim.VerilatorPipe
+import scala.collection.mutable.ArrayBuffer
 
 /** Gate-level simulation of a synthesized unit on real operations: the check that synthesis kept
   * the function, and the switching activity of every net for the power analysis.
   *
   * The operations are dealt to the simulator's [[Lanes]] independent lanes in contiguous runs.
-  * In each lane every cycle carries an operation with probability `u.validRate` (a seeded
-  * Bernoulli pattern, the unit's share of a 16/16/2 frame); on the other cycles `valid` is low and
-  * the data inputs keep their last values, as a registered bus does. Reset is held for 4 cycles,
-  * then the counters start; they stop when the last operation has entered, so the pipeline's
-  * drain does not dilute the activity. The outputs of every valid result are compared, in order,
-  * with the model's results for that lane's operations.
+  * For a unit with a valid input, each cycle of a lane carries an operation with probability
+  * `u.validRate` (a seeded Bernoulli pattern, the unit's share of a 16/16/2 frame); on the other
+  * cycles `valid` is low and the data inputs keep their last values, as a registered bus does. A
+  * free-running unit (the online multiplier and divider, whose stages each take a digit of another
+  * operation every cycle) takes one operation, a whole row of inputs, every cycle.
+  *
+  * Reset is held for 4 cycles with every input low, then the activity counters start; they stop
+  * when the last operation has entered, so the pipeline's drain does not dilute the activity.
+  * Outputs are sampled before each clock edge, as [[VerilatorPipe]] samples them. Checks:
+  *  - against the model: the outputs of every valid result, in order, equal the model's results
+  *    for that lane's operations (units whose operations carry expected values);
+  *  - against the RTL: each lane's input rows run through the unit's RTL in Verilator, whose
+  *    valid results (every cycle's outputs for a free-running unit) must equal the netlist's,
+  *    cycle for cycle.
   */
 object GateLevel {
   val Lanes = 64
   private val resetCycles = 4
 
-  /** The outcome: operations checked, mismatches (and the first, described), and per net its
-    * activity (toggles per cycle) and duty over the `cycles` counted cycles. */
+  /** The outcome: per net its activity (toggles per cycle) and duty over the `cycles` counted
+    * cycles; results checked against the model and against the RTL, the mismatches and the first
+    * one described. */
   final class Result(nl: Netlist, lib: Liberty.Library, val cycles: Long, activity: Array[Double], duty: Array[Double],
-                     val checked: Int, val mismatches: Int, val first: Option[String]) {
+                     val checked: Int, val rtlChecked: Long, val rtlNote: String, val mismatches: Int,
+                     val first: Option[String]) {
     private def act(net: Int): Sta.Activity = Sta.Activity(activity(net), duty(net))
     /** Activity of every instance pin (`inst/PIN`) of the netlist, from the net on it. */
     def pinActivity: Seq[(String, Sta.Activity)] =
@@ -41,64 +53,105 @@ object GateLevel {
     private def mean(nets: Seq[Int]): Double = if (nets.isEmpty) 0 else nets.map(activity(_)).sum / nets.size
   }
 
-  def run(u: CostUnit, nl: Netlist, lib: Liberty.Library, ops: IndexedSeq[UnitOp], seed: Long): Result = {
+  /** One observed result: the cycle and the values of the unit's `outPorts`. */
+  private type Obs = (Long, IndexedSeq[BigInt])
+
+  def run(u: CostUnit, nl: Netlist, lib: Liberty.Library, ops: IndexedSeq[UnitOp], seed: Long,
+          rtl: Option[VerilatorPipe] = None): Result = {
     val sim = new GateSim(nl, lib, clock = "clock")
     val rnd = new scala.util.Random(seed)
+    val ins = nl.ports.filter(p => p.direction == Liberty.Direction.Input && p.name != "clock" && p.name != "reset")
+      .map(_.name)
+    val at = ins.zipWithIndex.toMap
+    val validAt = u.validIn.map(at)
+    val inAt = u.inPorts.map(at)
     val per = (ops.length + Lanes - 1) / Lanes
     val next = Array.tabulate(Lanes)(l => l * per)            // next operation of each lane
     val end = Array.tabulate(Lanes)(l => math.min(ops.length, (l + 1) * per))
     val expect = Array.tabulate(Lanes)(l => l * per)          // next result each lane expects
+    val cur = Array.fill(Lanes)(Array.fill(ins.length)(BigInt(0)))
+    val rows = Array.fill(Lanes)(ArrayBuffer.empty[Array[BigInt]])
+    val seen = Array.fill(Lanes)(ArrayBuffer.empty[Obs])
     var mismatches = 0
     var checked = 0
     var first: Option[String] = None
+    def fail(msg: => String): Unit = { mismatches += 1; if (first.isEmpty) first = Some(msg) }
     val hasReset = nl.port("reset").isDefined
 
     def pokeAll(port: String, v: BigInt): Unit = (0 until Lanes).foreach(l => sim.poke(port, l, v))
-    def collect(): Unit = for (l <- 0 until Lanes if sim.peek(u.validOut, l) != 0) {
-      if (expect(l) >= end(l)) {
-        mismatches += 1
-        if (first.isEmpty) first = Some(s"lane $l: a result beyond its ${end(l) - l * per} operations")
-      } else {
-        val op = ops(expect(l))
+    def apply(cycle: Long): Unit = for (l <- 0 until Lanes) {
+      for (i <- ins.indices) sim.poke(ins(i), l, cur(l)(i))
+      if (rtl.isDefined) rows(l) += cur(l).clone()
+      if (u.validOut.forall(v => sim.peek(v, l) != 0)) {
         val got = u.outPorts.map(sim.peek(_, l))
-        if (got.indices.exists(i => got(i) != op.expect(i))) {
-          mismatches += 1
-          if (first.isEmpty) first = Some(s"operation ${expect(l)}: " + u.outPorts.indices.map(i =>
-            s"${u.outPorts(i)} ${got(i).toString(16)} (model ${op.expect(i).toString(16)})").mkString(", "))
+        seen(l) += (cycle -> got)
+        if (u.checksModel) {
+          if (expect(l) >= end(l)) fail(s"lane $l: a result beyond its ${end(l) - l * per} operations")
+          else {
+            val op = ops(expect(l))
+            if (got.indices.exists(i => got(i) != op.expect(i)))
+              fail(s"operation ${expect(l)}: " + u.outPorts.indices.map(i =>
+                s"${u.outPorts(i)} ${got(i).toString(16)} (model ${op.expect(i).toString(16)})").mkString(", "))
+            checked += 1
+            expect(l) += 1
+          }
         }
-        checked += 1
-        expect(l) += 1
       }
     }
 
-    // Reset with every input low.
-    for (p <- nl.ports if p.direction == Liberty.Direction.Input && p.name != "clock") pokeAll(p.name, 0)
+    for (p <- ins) pokeAll(p, 0)
     if (hasReset) pokeAll("reset", 1)
     for (_ <- 0 until resetCycles) sim.step()
     if (hasReset) pokeAll("reset", 0)
     sim.resetActivity()
-    var cycles = 0L
+    var cycle = 0L
     while ((0 until Lanes).exists(l => next(l) < end(l))) {
       for (l <- 0 until Lanes) {
-        val go = next(l) < end(l) && rnd.nextDouble() < u.validRate
-        sim.poke(u.validIn, l, if (go) 1 else 0)
+        val go = next(l) < end(l) && (validAt.isEmpty || rnd.nextDouble() < u.validRate)
+        validAt.foreach(v => cur(l)(v) = if (go) 1 else 0)
         if (go) {
           val op = ops(next(l))
-          for (i <- u.inPorts.indices) sim.poke(u.inPorts(i), l, op.in(i))
+          for (i <- inAt.indices) cur(l)(inAt(i)) = op.in(i)
           next(l) += 1
         }
       }
+      apply(cycle)
       sim.step()
-      cycles += 1
-      collect()
+      cycle += 1
     }
     val counted = sim.cycles
     val activity = Array.tabulate(nl.netCount)(sim.activity)
     val duty = Array.tabulate(nl.netCount)(sim.duty)
-    (0 until Lanes).foreach(l => sim.poke(u.validIn, l, 0))
-    for (_ <- 0 to u.latency + 1) { sim.step(); collect() }
-    val lost = (0 until Lanes).map(l => end(l) - expect(l)).sum
-    if (lost > 0) { mismatches += lost; if (first.isEmpty) first = Some(s"$lost operations produced no result") }
-    new Result(nl, lib, counted, activity, duty, checked, mismatches, first)
+    for (l <- 0 until Lanes; v <- validAt) cur(l)(v) = 0
+    if (u.validIn.isDefined) for (_ <- 0 to u.latency + 1) { apply(cycle); sim.step(); cycle += 1 }
+    if (u.checksModel) {
+      val lost = (0 until Lanes).map(l => end(l) - expect(l)).sum
+      if (lost > 0) fail(s"$lost operations produced no result")
+    }
+
+    // The same rows through the RTL, lane by lane.
+    var rtlChecked = 0L
+    for (pipe <- rtl; l <- 0 until Lanes if rows(l).nonEmpty) {
+      val order = pipe.inputs.map(p => at.getOrElse(p.name, sys.error(s"RTL input ${p.name} is not in the netlist")))
+      val (vOut, outs) = (u.validOut.map(pipe.out), u.outPorts.map(pipe.out))
+      val theirs = ArrayBuffer.empty[Obs]
+      var c = 0L
+      pipe.run(rows(l).iterator.map(r => order.map(r).toArray), resetCycles) { o =>
+        if (vOut.forall(o(_) != 0)) theirs += (c -> outs.map(o))
+        c += 1
+      }
+      val mine = seen(l)
+      rtlChecked += math.min(mine.length, theirs.length)
+      mine.indices.find(i => i >= theirs.length || mine(i) != theirs(i)).orElse(
+        if (theirs.length > mine.length) Some(mine.length) else None).foreach { i =>
+        fail(s"lane $l: the netlist and the RTL differ at result $i: " +
+          s"netlist ${mine.lift(i).map(describe(u, _)).getOrElse("none")}, RTL ${theirs.lift(i).map(describe(u, _)).getOrElse("none")}")
+      }
+    }
+    val note = if (rtl.isDefined) s"$rtlChecked results of ${u.top} in Verilator" else "skipped: verilator not found"
+    new Result(nl, lib, counted, activity, duty, checked, rtlChecked, note, mismatches, first)
   }
+
+  private def describe(u: CostUnit, o: Obs): String =
+    s"cycle ${o._1}: " + u.outPorts.indices.map(i => s"${u.outPorts(i)} ${o._2(i).toString(16)}").mkString(" ")
 }

@@ -18,6 +18,8 @@ import scala.sys.process._
   * OpenSTA has no read_vcd/read_saif, its `set_power_activity -pins` is broken, and activities set
   * before the first `report_power` are dropped; so the script calls `report_power` once, then sets
   * every pin with `sta::set_power_pin_activity` (ports with `sta::set_power_input_port_activity`).
+  * A global activity (`set_power_activity -global`) would override every pin's, so it is set only
+  * when no pin activity is given.
   */
 object Sta {
   /** Timing and power at one clock. Power in mW, times in ns. */
@@ -34,12 +36,15 @@ object Sta {
 
   /** Runs OpenSTA on `netlists` (module `top`) at each clock in `clocksGHz`. `pinActivity` maps
     * instance pins (`inst/PIN`) and `portActivity` input port bits (`name[i]` or `name`) to their
-    * activity; `defaultActivity` applies to whatever is not listed (OpenSTA propagates it through
-    * the logic). Writes the script and log into `dir`. */
-  def run(netlists: Seq[Path], top: String, lib: Path, clocksGHz: Seq[Double], dir: Path,
+    * activity; `defaultActivity` applies to input ports not listed and, when no activity is listed
+    * at all, to every pin. Writes the script and log into `workDir`. */
+  def run(netlistFiles: Seq[Path], top: String, libFile: Path, clocksGHz: Seq[Double], workDir: Path,
           pinActivity: Iterable[(String, Activity)], portActivity: Iterable[(String, Activity)],
           defaultActivity: Activity = Activity(0.1, 0.5), clockPort: String = "clock"): Report = {
     MapmError.check(clocksGHz.nonEmpty && clocksGHz.forall(c => c > 0 && c < 100), s"cost: clocks must be in (0, 100) GHz, got ${clocksGHz.mkString(",")}")
+    val dir = workDir.toAbsolutePath
+    val netlists = netlistFiles.map(_.toAbsolutePath)
+    val lib = libFile.toAbsolutePath
     Files.createDirectories(dir)
     val tcl = dir.resolve("sta.tcl")
     val act = dir.resolve("activity.tcl")
@@ -64,7 +69,7 @@ object Sta {
           |}
           |proc mapm_slack {} { return [sta::worst_slack -max] }
           |mapm_clock ${periods.head}
-          |set_power_activity -global -activity ${defaultActivity.activity} -duty ${defaultActivity.duty}
+          |${if (pinActivity.isEmpty && portActivity.isEmpty) s"set_power_activity -global -activity ${defaultActivity.activity} -duty ${defaultActivity.duty}" else ""}
           |set_power_activity -input -activity ${defaultActivity.activity} -duty ${defaultActivity.duty}
           |report_power > /dev/null
           |source {$act}

@@ -41,9 +41,9 @@ object Synthesis {
     val script = CostTools.root.resolve("tools/cost/synth.py")
     MapmError.check(Files.isRegularFile(script), s"cost: $script not found (run from the repository root)")
     Files.createDirectories(out)
-    val cmd = Seq(CostTools.get.yosysPython.toString, script.toString, "--verilog") ++ verilog.map(_.toString) ++
-      Seq("--top", top, "--lib", lib.toString, "--delay-ps", delayPs.toString, "--abc", scripts.mkString(","),
-        "--out", out.toString) ++
+    val cmd = Seq(CostTools.get.yosysPython.toString, script.toString, "--verilog") ++ verilog.map(_.toAbsolutePath.toString) ++
+      Seq("--top", top, "--lib", lib.toAbsolutePath.toString, "--delay-ps", delayPs.toString, "--abc", scripts.mkString(","),
+        "--out", out.toAbsolutePath.toString) ++
       (if (flatten) Seq("--flatten") else Seq.empty) ++ (if (blackbox.nonEmpty) "--blackbox" +: blackbox else Seq.empty)
     val log = out.resolve("yosys.log")
     val t0 = System.nanoTime()

@@ -6,6 +6,10 @@ import scala.sys.process._
 
 /** Finding and running Verilator for the project's own harnesses (not chiseltest's). */
 object Verilator {
+  /** Whether verilator is on the PATH. */
+  def available: Boolean = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).iterator
+    .exists(d => Files.isExecutable(java.nio.file.Paths.get(d, "verilator")))
+
   /** The verilator executable, or a [[MapmError]] telling how to get it. */
   def executable: String = {
     val found = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).iterator
