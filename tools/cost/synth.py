@@ -3,11 +3,14 @@
 `tools/mapm cost` (docs/cost.md). Written in the shape of OpenROAD-flow-scripts' synthesis script.
 
 Usage: synth.py --verilog F.sv [F2.sv ...] --top T --lib L.lib --delay-ps D --abc plain,buffer
-                --out DIR [--flatten] [--blackbox M ...]
+                --out DIR [--flatten | --keep M ...] [--blackbox M ...]
 
 Generic synthesis runs once; then the process forks, one child per ABC script, each mapping its own
 copy of the design (in parallel). Each child writes DIR/<script>/netlist.v (for OpenSTA),
 netlist.json (for the gate-level simulator) and stat.txt (yosys `stat -liberty`).
+--flatten maps one flat module; --keep keeps the named modules (and the top) as modules and
+flattens everything else into them after generic synthesis, so that ABC maps, buffers and sizes
+each kept module as a whole; without either the whole hierarchy is kept.
   plain   yosys' own delay-driven ABC mapping (`abc -D`)
   buffer  ABC maps for delay, then buffers wide fan-outs and sizes gates (buffer, upsize, dnsize)
 Progress goes to stderr. On failure: one line 'mapm: ...' on stderr and exit code 1.
@@ -56,6 +59,11 @@ def generic(args):
     for bb in args.blackbox:
         ys.run_pass(f"blackbox {bb}", d)
     ys.run_pass("synth -top %s%s" % (args.top, " -flatten" if args.flatten else ""), d)
+    if args.keep:
+        for m in [args.top] + args.keep:
+            ys.run_pass(f"setattr -mod -set keep_hierarchy 1 {m}", d)
+        ys.run_pass("flatten", d)
+        ys.run_pass("opt_clean -purge", d)
     return d
 
 def mapped(d, args, script, out_dir):
@@ -96,6 +104,7 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--flatten", action="store_true")
     ap.add_argument("--blackbox", nargs="*", default=[])
+    ap.add_argument("--keep", nargs="*", default=[])
     args = ap.parse_args()
     scripts = [s for s in args.abc.split(",") if s]
     for s in scripts:

@@ -10,21 +10,21 @@ import mapm.top.{Mapm, MapmParams}
   *
   *  (a) the dissertation's method (Table 4.9): the SOA's and the TSA's unit figures times their
   *      counts, at a common clock;
-  *  (b) the synthesized logic of every module: the whole design synthesized once with its
-  *      hierarchy kept, so each distinct module is mapped once; each module's own cells count
+  *  (b) the synthesized logic of every module: the whole design synthesized once, each distinct
+  *      module generically once; the top, its blocks, the blocks' parts (TSM, SOM, Query fetch,
+  *      L2 caches, Data bus, arbiters) and every cache stay modules, and everything else is
+  *      flattened into them, so that ABC maps, buffers and sizes each of them whole. Each kept module's cells count
   *      once per instance. The caches' and Register-queue banks' SRAM arrays (`SyncReadMem`s) are
   *      black boxes: their bits are reported per block and their area estimated from a bit-cell
-  *      model ([[SramModel]]); their power is not modelled, and says so.
+  *      model ([[ConfigCost.SramModel]]); their power is not modelled, and says so.
   *
-  * Timing and power of (b): each module whose subtree has at most [[SubtreeLimit]] cells is
-  * analysed whole by OpenSTA; a larger one (the blocks and the top) is analysed for its own
-  * logic with its submodules as empty shells. fmax is the lowest of these analyses. Power uses
-  * one global activity, the mean net activity the SOA showed in its gate-level simulation.
+  * Timing and power of (b): each kept module without kept modules inside is analysed whole by
+  * OpenSTA; the others (the top, the blocks, TSMs and SOM lanes around their L1 caches) for their
+  * own logic, with the kept modules inside as empty shells. fmax is the lowest of these
+  * analyses; paths from one part to another are not timed. Power uses one global activity, the
+  * mean net activity the SOA showed in its gate-level simulation.
   */
 object ConfigCost {
-  /** Largest subtree (cells) OpenSTA analyses in one piece here. */
-  val SubtreeLimit = 700000L
-
   /** SRAM bit-cell area model for the black-boxed arrays: a 6T cell of Intel's 180 nm logic
     * process (5.59 um^2, IEDM 1998) at 70 % array efficiency (decoders, sense amplifiers). */
   object SramModel {
@@ -62,10 +62,14 @@ object ConfigCost {
     val sv = Emit.toFile(new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true)
     val hier = Hierarchy.parse(new String(Files.readAllBytes(sv), StandardCharsets.UTF_8))
     val mems = hier.memories.keys.toSeq.sorted
-    log(s"synthesizing $top with its hierarchy (${mems.size} SRAM arrays as black boxes) ...")
+    val blocksOf = hier.children(top).distinct.filterNot(mems.contains)
+    val parts = blocksOf.flatMap(b => hier.children.getOrElse(b, Nil)).distinct.filterNot(mems.contains)
+    val caches = hier.children.keys.filter(_.startsWith("ROCache")).toSeq.sorted // kept too: their logic counts as caches
+    val kept = (blocksOf ++ parts ++ caches).distinct
+    log(s"synthesizing $top: ${kept.size} parts and blocks kept whole, ${mems.size} SRAM arrays as black boxes ...")
     val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
     val (syn, synSecs) = Synthesis.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
-      flatten = false, blackbox = mems)
+      flatten = false, blackbox = mems, keep = kept)
     val r = syn.head
     val own = ModuleCells.read(r.json, flow.library)
     val inst = {
@@ -73,16 +77,16 @@ object ConfigCost {
       def walk(m: String, n: Long): Unit = { c(m) += n; own.get(m).foreach(_.children.groupBy(identity).foreach { case (k, v) => walk(k, n * v.size) }) }
       walk(top, 1); c.toMap
     }
-    val big = own.keySet.filter(m => ModuleCells.subtreeCells(own, m) > SubtreeLimit)
-    val cover = own.keySet.filter(m => inst.contains(m) && !big(m) && !mems.contains(m) &&
-      (m == top || own.values.exists(par => big(par.module) && par.children.contains(m))))
+    // Modules with kept modules inside (the top, the blocks) are analysed as shells; the rest whole.
+    val shells = own.keySet.filter(m => inst.contains(m) && own(m).children.exists(c => !mems.contains(c)))
+    val whole = own.keySet.filter(m => inst.contains(m) && !shells(m) && !mems.contains(m))
     val texts = VerilogModules.split(new String(Files.readAllBytes(r.verilog), StandardCharsets.UTF_8))
     val bbFile = r.dir.resolve("blackboxes.v")
     val extra = if (Files.isRegularFile(bbFile)) Seq(bbFile) else Seq.empty
     val act = Sta.Activity(meanActivity, 0.5)
     val clocks = flow.clocksGHz
     val t0 = System.nanoTime()
-    val analyses = (cover.toSeq.sorted.map(m => (m, false)) ++ big.toSeq.sorted.map(m => (m, true))).map { case (m, shell) =>
+    val analyses = (whole.toSeq.sorted.map(m => (m, false)) ++ shells.toSeq.sorted.map(m => (m, true))).map { case (m, shell) =>
       log(s"timing and power of ${if (shell) s"$m (own logic)" else m} x ${inst(m)} ...")
       val files = if (!shell) Seq(r.verilog) ++ extra else {
         val f = dir.resolve("sta-shells").resolve(s"$m.v")
@@ -123,7 +127,7 @@ object ConfigCost {
       "methodA" -> ujson.Obj("description" -> s"$nSoa SOAs x ${soa.top} + $nTsa TSAs x ${tsa.top} (dissertation Table 4.9)",
         "fmaxGHz" -> fmaxA, "atFmax" -> methodA(fmaxA), "clocks" -> ujson.Arr.from(clocks.map(methodA))),
       "methodB" -> ujson.Obj(
-        "description" -> "every module synthesized once (hierarchy kept), own cells x instances; SRAM arrays black-boxed",
+        "description" -> "every module synthesized once, parts kept whole, own cells x instances; SRAM arrays black-boxed",
         "fmaxGHz" -> fmaxB, "slowest" -> ujson.Obj("module" -> slowest.root, "path" -> slowest.critical),
         "logicAreaMm2" -> logicArea / 1e6, "sequentialAreaMm2" -> seqBy.values.sum / 1e6,
         "areaByBlockMm2" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(areaBy.getOrElse(b, 0.0) / 1e6))),

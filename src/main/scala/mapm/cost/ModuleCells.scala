@@ -26,11 +26,4 @@ object ModuleCells {
         leaf.groupBy(identity).map { case (t, s) => t -> s.size }, sub)
     }.toMap
   }
-
-  /** Cells in `m` and everything under it. */
-  def subtreeCells(own: Map[String, Own], m: String): Long = {
-    val memo = scala.collection.mutable.Map.empty[String, Long]
-    def go(x: String): Long = memo.getOrElseUpdate(x, own.get(x).map(o => o.cells + o.children.map(go).sum).getOrElse(0L))
-    go(m)
-  }
 }

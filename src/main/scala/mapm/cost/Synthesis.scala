@@ -29,11 +29,12 @@ object Synthesis {
   }
 
   /** Synthesizes `top` from `verilog` into `out/<script>/` for each ABC script in `scripts`,
-    * targeting a `delayPs` clock period. `flatten` flattens the hierarchy; `blackbox` modules are
-    * kept as black boxes (the caches' SRAM arrays). Progress lines go to stderr. Returns the
-    * netlists and the wall seconds. */
+    * targeting a `delayPs` clock period. `flatten` flattens the hierarchy; otherwise the `keep`
+    * modules and the top stay modules and everything else is flattened into them (all modules stay
+    * when `keep` is empty); `blackbox` modules are kept as black boxes (the caches' SRAM arrays).
+    * Progress lines go to stderr. Returns the netlists and the wall seconds. */
   def run(verilog: Seq[Path], top: String, lib: Path, delayPs: Int, scripts: Seq[String], out: Path,
-          flatten: Boolean = true, blackbox: Seq[String] = Seq.empty): (Seq[Result], Double) = {
+          flatten: Boolean = true, blackbox: Seq[String] = Seq.empty, keep: Seq[String] = Seq.empty): (Seq[Result], Double) = {
     MapmError.check(scripts.nonEmpty && scripts.forall(AbcScripts.contains),
       s"cost: unknown ABC script in '${scripts.mkString(",")}' (${AbcScripts.mkString(", ")})")
     MapmError.check(delayPs > 0, s"cost: synthesis delay target must be positive, got $delayPs ps")
@@ -44,7 +45,8 @@ object Synthesis {
     val cmd = Seq(CostTools.get.yosysPython.toString, script.toString, "--verilog") ++ verilog.map(_.toAbsolutePath.toString) ++
       Seq("--top", top, "--lib", lib.toAbsolutePath.toString, "--delay-ps", delayPs.toString, "--abc", scripts.mkString(","),
         "--out", out.toAbsolutePath.toString) ++
-      (if (flatten) Seq("--flatten") else Seq.empty) ++ (if (blackbox.nonEmpty) "--blackbox" +: blackbox else Seq.empty)
+      (if (flatten) Seq("--flatten") else Seq.empty) ++ (if (blackbox.nonEmpty) "--blackbox" +: blackbox else Seq.empty) ++
+      (if (keep.nonEmpty) "--keep" +: keep else Seq.empty)
     val log = out.resolve("yosys.log")
     val t0 = System.nanoTime()
     val errs = new StringBuilder

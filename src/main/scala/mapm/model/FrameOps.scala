@@ -17,42 +17,39 @@ object FrameOps {
   /** One tree-search operation: query coordinate p on the node's axis, radius h, split s. */
   final case class Ts(p: Long, h: Long, s: Long)
 
-  /** The first `limit` shader operations of the frame's queries, in search order. */
-  def shaderOps(map: PhotonMap, queries: QuerySet, limit: Int): IndexedSeq[So] = {
-    val out = scala.collection.mutable.ArrayBuffer.empty[So]
+  /** Searches the queries in order and lets `take` add each search's operations to the list,
+    * until it holds `limit`. */
+  private def collect[T](map: PhotonMap, queries: QuerySet, limit: Int)(
+      take: (TreeSearcher, Int, scala.collection.mutable.ArrayBuffer[T]) => Unit): IndexedSeq[T] = {
+    val out = scala.collection.mutable.ArrayBuffer.empty[T]
     val searcher = new TreeSearcher(map.search)
     var q = 0
     while (q < queries.size && out.length < limit) {
       searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
-      var k = 0
-      while (k < searcher.soCount && out.length < limit) {
+      take(searcher, q, out)
+      q += 1
+    }
+    out.take(limit).toIndexedSeq
+  }
+
+  /** The first `limit` shader operations of the frame's queries, in search order. */
+  def shaderOps(map: PhotonMap, queries: QuerySet, limit: Int): IndexedSeq[So] =
+    collect[So](map, queries, limit) { (searcher, q, out) =>
+      for (k <- 0 until searcher.soCount) {
         val i = searcher.so(k)
         out += So(Array(map.kernel(i), map.brdf(i), map.h, map.power(0)(i), map.power(1)(i), map.power(2)(i),
           queries.contribution(0)(q), queries.contribution(1)(q), queries.contribution(2)(q),
           queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i)))
-        k += 1
       }
-      q += 1
     }
-    out.toIndexedSeq
-  }
 
   /** The first `limit` tree-search operations of the frame's queries, in search order. */
-  def treeSearchOps(map: PhotonMap, queries: QuerySet, limit: Int): IndexedSeq[Ts] = {
-    val out = scala.collection.mutable.ArrayBuffer.empty[Ts]
-    val searcher = new TreeSearcher(map.search)
-    var q = 0
-    while (q < queries.size && out.length < limit) {
-      searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
+  def treeSearchOps(map: PhotonMap, queries: QuerySet, limit: Int): IndexedSeq[Ts] =
+    collect[Ts](map, queries, limit) { (searcher, q, out) =>
       val coord = Array(queries.qx(q), queries.qy(q), queries.qz(q))
-      var k = 0
-      while (k < searcher.tsCount && out.length < limit) {
+      for (k <- 0 until searcher.tsCount) {
         val i = searcher.visited(k)
         out += Ts(coord(NodeWord.axis(map.search.word(i))), map.h, map.split(i))
-        k += 1
       }
-      q += 1
     }
-    out.toIndexedSeq
-  }
 }
