@@ -165,6 +165,7 @@ object ConfigCost {
     val s = b("sram")
     sb ++= f"    SRAM (not synthesized): ${s("bits").num}%.0f bits, ${s("areaMm2").num}%.3f mm^2 by ${s("model").str}\n"
     sb ++= "    SRAM bits by block: " + s("bitsByBlock").obj.map { case (k, v) => f"$k ${v.num}%.0f" }.mkString(", ") + "\n"
+    sb ++= f"    run time: synthesis ${j("seconds")("synthesis").num}%.0f s, timing and power ${j("seconds")("sta").num}%.0f s\n"
     sb.toString
   }
 }

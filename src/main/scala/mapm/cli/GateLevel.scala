@@ -1,6 +1,7 @@
 package mapm.cli
 
 import mapm.cost.{GateSim, Liberty, Netlist, Sta}
+import mapm.model.Progress
 import mapm.sim.VerilatorPipe
 import scala.collection.mutable.ArrayBuffer
 
@@ -105,19 +106,22 @@ object GateLevel {
     if (hasReset) pokeAll("reset", 0)
     sim.resetActivity()
     var cycle = 0L
-    while ((0 until Lanes).exists(l => next(l) < end(l))) {
-      for (l <- 0 until Lanes) {
-        val go = next(l) < end(l) && (validAt.isEmpty || rnd.nextDouble() < u.validRate)
-        validAt.foreach(v => cur(l)(v) = if (go) 1 else 0)
-        if (go) {
-          val op = ops(next(l))
-          for (i <- inAt.indices) cur(l)(inAt(i)) = op.in(i)
-          next(l) += 1
+    Progress("gate-level simulation", ops.length.toLong) { bar =>
+      while ((0 until Lanes).exists(l => next(l) < end(l))) {
+        for (l <- 0 until Lanes) {
+          val go = next(l) < end(l) && (validAt.isEmpty || rnd.nextDouble() < u.validRate)
+          validAt.foreach(v => cur(l)(v) = if (go) 1 else 0)
+          if (go) {
+            val op = ops(next(l))
+            for (i <- inAt.indices) cur(l)(inAt(i)) = op.in(i)
+            next(l) += 1
+            bar.advance()
+          }
         }
+        apply(cycle)
+        sim.step()
+        cycle += 1
       }
-      apply(cycle)
-      sim.step()
-      cycle += 1
     }
     val counted = sim.cycles
     val activity = Array.tabulate(nl.netCount)(sim.activity)
@@ -131,7 +135,8 @@ object GateLevel {
 
     // The same rows through the RTL, lane by lane.
     var rtlChecked = 0L
-    for (pipe <- rtl; l <- 0 until Lanes if rows(l).nonEmpty) {
+    for (pipe <- rtl) Progress(s"RTL check in Verilator", Lanes.toLong)(bar => for (l <- 0 until Lanes if rows(l).nonEmpty) {
+      bar.advance()
       val order = pipe.inputs.map(p => at.getOrElse(p.name, sys.error(s"RTL input ${p.name} is not in the netlist")))
       val (vOut, outs) = (u.validOut.map(pipe.out), u.outPorts.map(pipe.out))
       val theirs = ArrayBuffer.empty[Obs]
@@ -147,7 +152,7 @@ object GateLevel {
         fail(s"lane $l: the netlist and the RTL differ at result $i: " +
           s"netlist ${mine.lift(i).map(describe(u, _)).getOrElse("none")}, RTL ${theirs.lift(i).map(describe(u, _)).getOrElse("none")}")
       }
-    }
+    })
     val note = if (rtl.isDefined) s"$rtlChecked results of ${u.top} in Verilator" else "skipped: verilator not found"
     new Result(nl, lib, counted, activity, duty, checked, rtlChecked, note, mismatches, first)
   }

@@ -51,6 +51,10 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     sb ++= f"\nfmax $fmaxGHz%.3f GHz (critical path $criticalStart -> $criticalEnd); dynamic power at fmax " +
       f"${dynamicMwAt(fmaxGHz)}%.3f mW ($dynamicPjPerCycle%.1f pJ per cycle); area $areaUm2%.0f um^2 " +
       f"(sequential $seqAreaUm2%.0f, combinational $combAreaUm2%.0f), ${cells.values.sum} cells\n"
+    sb ++= f"gate-level check: ${check("operations").num}%.0f operations, ${check("mismatches").num}%.0f mismatches; " +
+      f"mean net activity ${activity("meanActivity").num}%.3f toggles/cycle\n"
+    sb ++= "run time (s): " + Seq("emit", "synthesis", "gateLevel", "sta", "total").flatMap(k =>
+      seconds.value.get(k).map(v => f"$k ${v.num}%.0f")).mkString(", ") + "\n"
     sb.toString
   }
 

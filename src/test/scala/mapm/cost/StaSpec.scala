@@ -67,6 +67,17 @@ class StaSpec extends AnyFunSuite {
     }
   }
 
+  test("a register of N flip-flops synthesized by yosys: N DFFPOSX1 cells, area N times the Liberty cell's") {
+    val dff = cell("DFFPOSX1")
+    for (n <- Seq(1, 8, 33)) {
+      val r = YosysSynth(s"module r$n(input clock, input [${n - 1}:0] d, output reg [${n - 1}:0] q);\n" +
+        "  always @(posedge clock) q <= d;\nendmodule\n", s"r$n")
+      val area = r.netlist.area(Liberty.read(tools().osu018Lib))
+      assert(area.counts == Map("DFFPOSX1" -> n))
+      assert(math.abs(area.total - n * dff.area) < 1e-9 && area.sequential == area.total)
+    }
+  }
+
   test("a register of N flip-flops: leakage is the Liberty sum; zero data activity leaves the clock's energy only") {
     val dff = cell("DFFPOSX1")
     val n = 16
