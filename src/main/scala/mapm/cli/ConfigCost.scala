@@ -42,8 +42,9 @@ object ConfigCost {
       case m if m.startsWith("SoBlock") => "SO block"
     }.getOrElse("top")
 
-  final case class Analysis(root: String, instances: Long, shell: Boolean, fmaxGHz: Double, critical: String,
-                            atClock: Sta.AtClock)
+  /** One OpenSTA analysis: a module (whole, or its own logic in a `shell`), its instances, its
+    * fmax and worst path. */
+  final case class Analysis(root: String, instances: Long, shell: Boolean, fmaxGHz: Double, critical: String)
 
   def run(flow: CostFlow, p: MapmParams, soa: UnitCost, tsa: UnitCost, meanActivity: Double, dir: Path,
           log: String => Unit): ujson.Obj = {
@@ -97,7 +98,7 @@ object ConfigCost {
       }
       val rep = Sta.run(files, m, flow.libPath, clocks, dir.resolve("sta").resolve(m), Seq.empty, Seq.empty, act)
       val worst = rep.clocks.head
-      Analysis(m, inst(m), shell, rep.fmaxGHz, s"${worst.startPoint} -> ${worst.endPoint}", worst) -> rep
+      Analysis(m, inst(m), shell, rep.fmaxGHz, s"${worst.startPoint} -> ${worst.endPoint}") -> rep
     }
     val staSecs = (System.nanoTime() - t0) / 1e9
     val fmaxB = analyses.map(_._1.fmaxGHz).min

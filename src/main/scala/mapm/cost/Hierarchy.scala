@@ -3,36 +3,13 @@ package mapm.cost
 import mapm.MapmError
 
 /** The module hierarchy of an emitted (CIRCT) Verilog file, read from its text: which modules
-  * instantiate which, how many instances of each module a top has, and which modules are memory
-  * arrays (firtool's `reg [W-1:0] Memory[0:D-1]` modules for `SyncReadMem`s), with their bits.
+  * instantiate which, and which modules are memory arrays (firtool's `reg [W-1:0] Memory[0:D-1]`
+  * modules for `SyncReadMem`s), with their bits.
   *
   * @param children per module, the modules it instantiates (one entry per instance)
   * @param memories per memory module, (width, depth)
   */
 final case class Hierarchy(children: Map[String, Seq[String]], memories: Map[String, (Int, Int)]) {
-  /** Instances of every module under (and including) `top`. */
-  def instanceCounts(top: String): Map[String, Long] = {
-    MapmError.check(children.contains(top), s"cost: module $top is not in the Verilog")
-    val counts = scala.collection.mutable.Map.empty[String, Long].withDefaultValue(0L)
-    def walk(m: String, times: Long): Unit = {
-      counts(m) += times
-      children.getOrElse(m, Nil).groupBy(identity).foreach { case (c, insts) => walk(c, times * insts.size) }
-    }
-    walk(top, 1)
-    counts.toMap
-  }
-
-  /** The module of each instance path under `top` (`top/a/b`), with the chain of modules above it. */
-  def paths(top: String): Seq[Seq[String]] = {
-    val out = scala.collection.mutable.ArrayBuffer.empty[Seq[String]]
-    def walk(chain: Seq[String]): Unit = {
-      out += chain
-      children.getOrElse(chain.last, Nil).foreach(c => walk(chain :+ c))
-    }
-    walk(Seq(top))
-    out.toSeq
-  }
-
   /** Bits of memory module `m`. */
   def memoryBits(m: String): Long = memories.get(m).map { case (w, d) => w.toLong * d }.getOrElse(0L)
 }

@@ -89,6 +89,49 @@ class CostCommandSpec extends AnyFunSuite {
     assert(GateLevel.run(u, broken, lib, ops, 5).mismatches > 0)
   }
 
+  test("cost --tsm 1 --som 1 --soa 1 at e5m4: (a) is the unit figures, (b) every module's cells and the SRAM bits") {
+    tools()
+    val out = Files.createTempDirectory("mapm-cost-config")
+    val (rc, text) = runCost("--tsm", "1", "--som", "1", "--soa", "1", "--format", "5,4", "--stimulus", "random",
+      "--ops", "512", "--clock", "0.05,0.1", "--abc", "buffer", "--out", out.toString)
+    assert(rc == 0 && text.contains("(a) 1 SOAs"), text)
+    val j = ujson.read(Files.readAllBytes(out.resolve("cost.json")))
+    val soa = ujson.read(Files.readAllBytes(out.resolve("soa").resolve("cost.json")))
+    val tsa = ujson.read(Files.readAllBytes(out.resolve("tsa").resolve("cost.json")))
+    val a = j("methodA")
+    assert(math.abs(a("clocks")(0)("areaMm2").num * 1e6 - (soa("areaUm2").num + tsa("areaUm2").num)) < 1e-3)
+    assert(a("fmaxGHz").num == math.min(soa("fmaxGHz").num, tsa("fmaxGHz").num))
+    val dyn = soa("clocks")(0)("dynamicPowerMw").num + tsa("clocks")(0)("dynamicPowerMw").num
+    assert(math.abs(a("clocks")(0)("dynamicPowerMw").num - dyn) < 1e-6 * dyn)
+
+    // (b): every module's own cells (this test's Liberty areas) times its instances under the top.
+    val b = j("methodB")
+    val top = "Mapm_t1s1a1_e5m4_g3"
+    val net = ujson.read(Files.readAllBytes(out.resolve("config").resolve("synth").resolve("buffer").resolve("netlist.json")))("modules").obj
+    def cellsOf(m: String): Seq[String] = net(m).obj.get("cells").map(_.obj.values.map(_("type").str).toSeq).getOrElse(Nil)
+    def area(m: String): Double = cellsOf(m).map(t => areas.getOrElse(t, if (net.contains(t)) area(t) else fail(s"unknown cell $t"))).sum
+    val logic = area(top)
+    assert(math.abs(b("logicAreaMm2").num * 1e6 - logic) < 1e-6 * logic, s"(b) ${b("logicAreaMm2")} mm^2, own sum $logic um^2")
+    assert(math.abs(b("areaByBlockMm2").obj.values.map(_.num).sum - b("logicAreaMm2").num) < 1e-9)
+    // SRAM: every Memory array of the emitted Verilog, times its instances.
+    val sv = new String(Files.readAllBytes(out.resolve("config").resolve("rtl").resolve(s"$top.sv")), StandardCharsets.UTF_8)
+    val mods = """(?s)module\s+(\w+)\((.*?)endmodule""".r.findAllMatchIn(sv).map(m => m.group(1) -> m.group(2)).toMap
+    val bits = mods.flatMap { case (n, body) =>
+      """reg\s*\[(\d+):0\]\s*Memory\s*\[0:(\d+)\]""".r.findFirstMatchIn(body).map(m => n -> (m.group(1).toLong + 1) * (m.group(2).toLong + 1))
+    }
+    def memBits(m: String): Long = bits.getOrElse(m, 0L) + """(?m)^\s+(\w+)\s+\w+\s*\(""".r.findAllMatchIn(mods(m))
+      .map(_.group(1)).filter(mods.contains).map(memBits).sum
+    assert(bits.nonEmpty && b("sram")("bits").num == memBits(top).toDouble)
+    assert(b("sram")("powerMw").isNull)
+    val mins = b("modules").arr.map(_("fmaxGHz").num)
+    assert(b("fmaxGHz").num == mins.min && b("fmaxGHz").num > 0)
+    for (c <- b("clocks").arr) {
+      assert(c("slackMet").bool == (c("clockGHz").num <= b("fmaxGHz").num + 1e-9))
+      assert(math.abs(c("dynamicByBlockMw").obj.values.map(_.num).sum - c("dynamicPowerMw").num) < 1e-6 * c("dynamicPowerMw").num)
+    }
+    assert(Files.isRegularFile(out.resolve("cost.md")))
+  }
+
   test("bad input: one-line errors") {
     def err(args: String*): String = intercept[MapmError](CostCommand.run(args)).getMessage
     assert(err("--unit", "nope").contains("unknown unit 'nope'"))
