@@ -7,20 +7,10 @@ import org.scalatest.funsuite.AnyFunSuite
 /** OpenSTA through [[Sta]] on hand-written OSU 0.18 um netlists, against bounds read from the
   * Liberty file by this test's own code (a few regular expressions, not [[Liberty]]). */
 class StaSpec extends AnyFunSuite {
+  import StaSpec.CellData
   private def tools(): CostTools.Paths3 = CostTools.available.fold(
     why => cancel(s"cost tools (yosys, OpenSTA, OSU 0.18 um cells) unavailable: $why"), identity)
 
-  /** This test's own reading of one cell of the Liberty text. */
-  private final case class CellData(area: Double, leakageNw: Double, body: String) {
-    private def values(group: String): Seq[Double] =
-      (group + """\s*\([^)]*\)\s*\{[^}]*?values\s*\(([^)]*)\)""").r.findAllMatchIn(body).toSeq
-        .flatMap(_.group(1).replaceAll("""[\\"\s]""", "").split(",").filter(_.nonEmpty).map(_.toDouble))
-    def delays: Seq[Double] = values("cell_rise") ++ values("cell_fall")
-    def riseEnergy: Seq[Double] = values("rise_power")
-    def fallEnergy: Seq[Double] = values("fall_power")
-    def pinCap(pin: String): Double =
-      ("""pin\s*\(\s*""" + pin + """\s*\)\s*\{\s*[^}]*?\bcapacitance\s*:\s*([0-9.eE+-]+)""").r.findFirstMatchIn(body).get.group(1).toDouble
-  }
   private def cell(name: String): CellData = {
     val text = new String(Files.readAllBytes(tools().osu018Lib), StandardCharsets.ISO_8859_1)
     val start = text.indexOf(s"cell ($name)")
@@ -117,3 +107,16 @@ class StaSpec extends AnyFunSuite {
   }
 }
 
+object StaSpec {
+  /** This test's own reading of one cell of the Liberty text. */
+  private final case class CellData(area: Double, leakageNw: Double, body: String) {
+    private def values(group: String): Seq[Double] =
+      (group + """\s*\([^)]*\)\s*\{[^}]*?values\s*\(([^)]*)\)""").r.findAllMatchIn(body).toSeq
+        .flatMap(_.group(1).replaceAll("""[\\"\s]""", "").split(",").filter(_.nonEmpty).map(_.toDouble))
+    def delays: Seq[Double] = values("cell_rise") ++ values("cell_fall")
+    def riseEnergy: Seq[Double] = values("rise_power")
+    def fallEnergy: Seq[Double] = values("fall_power")
+    def pinCap(pin: String): Double =
+      ("""pin\s*\(\s*""" + pin + """\s*\)\s*\{\s*[^}]*?\bcapacitance\s*:\s*([0-9.eE+-]+)""").r.findFirstMatchIn(body).get.group(1).toDouble
+  }
+}
