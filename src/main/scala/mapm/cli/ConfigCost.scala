@@ -73,11 +73,13 @@ object ConfigCost {
       flatten = false, blackbox = mems, keep = kept)
     val r = syn.head
     val own = ModuleCells.read(r.json, flow.library)
-    val inst = {
-      val c = scala.collection.mutable.Map.empty[String, Long].withDefaultValue(0L)
-      def walk(m: String, n: Long): Unit = { c(m) += n; own.get(m).foreach(_.children.groupBy(identity).foreach { case (k, v) => walk(k, n * v.size) }) }
-      walk(top, 1); c.toMap
+    // Every instance path under the top; a module's instance count is the number of paths ending in it.
+    val paths = {
+      val out = scala.collection.mutable.ArrayBuffer.empty[Seq[String]]
+      def walk(chain: Seq[String]): Unit = { out += chain; own.get(chain.last).foreach(_.children.foreach(c => walk(chain :+ c))) }
+      walk(Seq(top)); out.toSeq
     }
+    val inst: Map[String, Long] = paths.groupBy(_.last).map { case (m, ps) => m -> ps.size.toLong }
     // Modules with kept modules inside (the top, the blocks) are analysed as shells; the rest whole.
     val shells = own.keySet.filter(m => inst.contains(m) && own(m).children.exists(c => !mems.contains(c)))
     val whole = own.keySet.filter(m => inst.contains(m) && !shells(m) && !mems.contains(m))
@@ -105,11 +107,6 @@ object ConfigCost {
     val slowest = analyses.minBy(_._1.fmaxGHz)._1
 
     // Area and SRAM by block, over every instance path.
-    val paths = {
-      val out = scala.collection.mutable.ArrayBuffer.empty[Seq[String]]
-      def walk(chain: Seq[String]): Unit = { out += chain; own.get(chain.last).foreach(_.children.foreach(c => walk(chain :+ c))) }
-      walk(Seq(top)); out.toSeq
-    }
     val blocks = Seq("TS block", "SO block", "caches", "arbiter", "top")
     val areaBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.areaUm2).getOrElse(0.0)).sum }
     val seqBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.seqAreaUm2).getOrElse(0.0)).sum }

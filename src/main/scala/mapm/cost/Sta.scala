@@ -117,7 +117,7 @@ object Sta {
   /** The per-clock sections of the log. */
   private[cost] def parseClocks(text: String): Seq[AtClock] =
     text.split("MAPM_CLOCK ").drop(1).toSeq.map { sec =>
-      val body = sec.takeWhile(_ => true).split("MAPM_END")(0)
+      val body = sec.split("MAPM_END")(0)
       val head = body.linesIterator.next().trim.split("\\s+")
       val period = head(0).toDouble
       val slack = head(1).toDouble

@@ -7,14 +7,14 @@ import scala.sys.process._
 /** Finding and running Verilator for the project's own harnesses (not chiseltest's). */
 object Verilator {
   /** Whether verilator is on the PATH. */
-  def available: Boolean = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).iterator
-    .exists(d => Files.isExecutable(java.nio.file.Paths.get(d, "verilator")))
+  def available: Boolean = onPath.isDefined
+
+  private def onPath: Option[java.nio.file.Path] = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).iterator
+    .map(d => java.nio.file.Paths.get(d, "verilator")).find(p => Files.isExecutable(p))
 
   /** The verilator executable, or a [[MapmError]] telling how to get it. */
   def executable: String = {
-    val found = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).iterator
-      .map(d => java.nio.file.Paths.get(d, "verilator")).find(p => Files.isExecutable(p))
-    found.map(_.toString).getOrElse(
+    onPath.map(_.toString).getOrElse(
       MapmError.fail("verilator not found on PATH (tools/sbt installs it; or apt-get install verilator)"))
   }
 
