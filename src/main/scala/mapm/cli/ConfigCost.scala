@@ -4,7 +4,8 @@ import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
 import mapm.cost._
 import mapm.sim.Emit
-import mapm.top.{Mapm, MapmParams}
+import mapm.params.MapmParams
+import mapm.top.Mapm
 
 /** The cost of a whole MAPM configuration, two ways side by side (docs/cost.md):
   *

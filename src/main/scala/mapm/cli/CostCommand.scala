@@ -56,7 +56,7 @@ object CostCommand extends Command {
         println(s"wrote ${Paths.get(out).resolve("cost.json")} and cost.md")
         0
       case (None, 3) =>
-        val params = mapm.top.MapmParams.of(tsm.get, som.get, soa.get, format, g)
+        val params = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g)
         val base = Paths.get(out)
         val frame = if (stimulus == "frame") Some(CostFlow.frame(scene, format)) else None
         val source = if (stimulus == "frame") s"SOs/TS ops of $scene" else s"random (seed $seed)"

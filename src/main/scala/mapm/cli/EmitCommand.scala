@@ -6,7 +6,8 @@ import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.FloatFormat
 import mapm.sim.Emit
-import mapm.top.{Mapm, MapmParams}
+import mapm.params.MapmParams
+import mapm.top.Mapm
 import Args.FloatFormatReader
 
 /** `mapm emit`: writes the SystemVerilog of a whole MAPM ([[Mapm]]) of any size and format

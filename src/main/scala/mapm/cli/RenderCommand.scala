@@ -5,7 +5,7 @@ import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.{FloatFormat, ImageIO, Metrics, Parallel, RgbImage, Vec3}
 import mapm.sim.{Harness, MapmRtl}
-import mapm.top.MapmParams
+import mapm.params.MapmParams
 import Args.FloatFormatReader
 
 /** `mapm render`: the main job. Renders a frame through the emitted RTL of a whole MAPM in

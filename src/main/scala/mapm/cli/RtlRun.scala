@@ -6,7 +6,7 @@ import mapm.MapmError
 import mapm.memory.MemoryImage
 import mapm.model._
 import mapm.sim.{ExpectedSo, Harness, MapmRtl}
-import mapm.top.MapmParams
+import mapm.params.MapmParams
 
 /** The RTL render shared by `render` and `sweep`: scene -> model ([[Frame]]) -> memory image and
   * expected SOs (the model in the hardware's arithmetic) -> emitted Verilog (cached) -> Verilator

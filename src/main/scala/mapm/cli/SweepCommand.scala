@@ -5,7 +5,7 @@ import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.{FloatFormat, Parallel}
 import mapm.sim.Harness
-import mapm.top.MapmParams
+import mapm.params.MapmParams
 import Args.FloatFormatReader
 
 /** `mapm sweep`: a design-space sweep over TSM/SOM/SOA configurations (default: the 24 of Table

@@ -1,7 +1,7 @@
 package mapm.memory
 
 import chisel3.util.log2Ceil
-import mapm.top.CacheParams
+import mapm.params.CacheParams
 
 /** Everything that sizes one [[ReadOnlyCache]]: its geometry (a Table 4.2 row), the client word,
   * the lower port and the miss-handling resources.

@@ -2,7 +2,7 @@ package mapm.shader
 
 import chisel3._
 import chisel3.util._
-import mapm.top.{MapmParams, SoGroup}
+import mapm.params.{MapmParams, SoGroup}
 import mapm.util.Pick
 
 /** The Data bus (3.2): hands the TSMs' SO groups to SOMs with room for them.

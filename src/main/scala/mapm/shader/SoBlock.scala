@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, MemArbiter, MemPort, ReadOnlyCache}
-import mapm.top.{MapmConfig, MapmParams, SoGroup, SoResult}
+import mapm.params.{MapmConfig, MapmParams, SoGroup, SoResult}
 import mapm.util.Pick
 
 /** Counters of the SO block (64 bits each; docs/mapm.md). */

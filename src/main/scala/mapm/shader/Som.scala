@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheCounters, MemPort}
-import mapm.top.{MapmParams, SoGroup, SoResult}
+import mapm.params.{MapmParams, SoGroup, SoResult}
 
 /** Shader Operation Module (3.5): `soaPerSom` [[SomLane]]s, each an SOA with its part of the
   * reservation station and its bank of the SOP L1. An SO goes to the lane of its photon:

@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.top.{MapmParams, QueryData, SoResult}
+import mapm.params.{MapmParams, QueryData, SoResult}
 import mapm.util.Pick
 
 /** One shader operation waiting in a reservation station: its query and the photon's node index. */

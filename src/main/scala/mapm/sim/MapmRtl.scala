@@ -3,7 +3,8 @@ package mapm.sim
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
 
-import mapm.top.{Mapm, MapmParams}
+import mapm.params.MapmParams
+import mapm.top.Mapm
 import scala.jdk.CollectionConverters._
 
 /** The emitted SystemVerilog of a whole MAPM, cached per configuration under

@@ -1,5 +1,6 @@
 package mapm.top
 
+import mapm.params._
 import chisel3._
 import chisel3.util._
 import mapm.memory.{MemArbiter, MemPort, MemPortParams}

@@ -3,7 +3,7 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.top.{MapmParams, QueryData, QueryIn}
+import mapm.params.{MapmParams, QueryData, QueryIn}
 import mapm.util.Pick
 
 /** The front of the TS block: takes the host's tree-search instructions (query position and

@@ -3,7 +3,7 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, MemArbiter, MemPort, ReadOnlyCache}
-import mapm.top.{MapmConfig, MapmParams, QueryIn, SoGroup}
+import mapm.params.{MapmConfig, MapmParams, QueryIn, SoGroup}
 import mapm.util.Pick
 
 /** Counters of the TS block (64 bits each; docs/mapm.md). */

@@ -3,7 +3,7 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.top.{MapmParams, QueryData, SoGroup}
+import mapm.params.{MapmParams, QueryData, SoGroup}
 import mapm.util.Pick
 
 /** A pending search inside one TSM: the query's slot in the TSM's query table and the node. */

@@ -1,7 +1,7 @@
 package mapm.memory
 
 import mapm.model.{Box, NodeWord, PhotonTree, SearchTree, TreeSearcher, Vec3}
-import mapm.top.{CacheParams, CachesParams, MemoryParams}
+import mapm.params.{CacheParams, CachesParams, MemoryParams}
 import org.scalatest.funsuite.AnyFunSuite
 import scala.util.Random
 

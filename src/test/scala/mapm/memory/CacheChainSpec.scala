@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import chiseltest._
 import mapm.testutil.Sim
-import mapm.top.CacheParams
+import mapm.params.CacheParams
 import org.scalatest.funsuite.AnyFunSuite
 import scala.util.Random
 

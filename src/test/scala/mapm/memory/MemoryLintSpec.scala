@@ -2,7 +2,7 @@ package mapm.memory
 
 import java.nio.file.Files
 import mapm.sim.{Emit, Verilator}
-import mapm.top.{CacheParams, CachesParams, MemoryParams}
+import mapm.params.{CacheParams, CachesParams, MemoryParams}
 import org.scalatest.funsuite.AnyFunSuite
 import scala.sys.process._
 

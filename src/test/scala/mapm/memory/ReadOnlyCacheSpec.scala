@@ -3,7 +3,7 @@ package mapm.memory
 import chisel3._
 import chiseltest._
 import mapm.testutil.Sim
-import mapm.top.{CacheParams, CachesParams}
+import mapm.params.{CacheParams, CachesParams}
 import org.scalatest.funsuite.AnyFunSuite
 import scala.util.Random
 

@@ -5,7 +5,7 @@ import java.nio.file.{Files, Path, Paths}
 
 import mapm.memory.MemoryImage
 import mapm.model.FloatFormat
-import mapm.top.MapmParams
+import mapm.params.MapmParams
 import org.scalatest.funsuite.AnyFunSuite
 import java.math.{BigDecimal => JBig}
 

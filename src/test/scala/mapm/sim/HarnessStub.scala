@@ -3,7 +3,7 @@ package mapm.sim
 import chisel3._
 import chisel3.util._
 import mapm.memory.{MemPort, MemPortParams}
-import mapm.top.{MapmConfig, MapmParams, QueryIn, SoResult}
+import mapm.params.{MapmConfig, MapmParams, QueryIn, SoResult}
 
 /** A stand-in with the whole MAPM's top IO (docs/mapm.md) for testing the Verilator harness on its
   * own: for each query it reads the query's 32-byte record from memory (two 16-byte beats), then

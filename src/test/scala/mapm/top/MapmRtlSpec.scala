@@ -1,5 +1,6 @@
 package mapm.top
 
+import mapm.params._
 import java.nio.file.{Files, Path, Paths}
 
 import mapm.cli.RtlRun

@@ -1,5 +1,6 @@
 package mapm.top
 
+import mapm.params._
 import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.{Files, Paths}
 

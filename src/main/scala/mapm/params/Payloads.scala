@@ -1,4 +1,4 @@
-package mapm.top
+package mapm.params
 
 import chisel3._
 import chisel3.util._

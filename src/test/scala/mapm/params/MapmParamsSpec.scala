@@ -1,4 +1,4 @@
-package mapm.top
+package mapm.params
 
 import mapm.model.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
