@@ -1,27 +1,22 @@
-// The expected shader-operation results, written by mapm.sim.ExpectedSo (Scala).
-//
-// File (little-endian): 32-byte header
-//   0 magic "MAPMSO01", 8 u32 version 1, 12 u8 exponent width, 13 u8 mantissa width, 14 u16 0,
-//   16 u64 record count, 24 u32 image width, 28 u32 image height
-// then one 24-byte record per shader operation, sorted by (query, photon):
-//   0 u32 query, 4 u32 photon, 8/12/16 u32 colour r/g/b (format bits),
-//   20 u16: flags r (bits 0-2), g (3-5), b (6-8), cond (bit 9); 22 u16 0.
+// The expected shader-operation results, written by mapm.sim.ExpectedSo (Scala) in the format of
+// mapm.format.ExpectedSoFile (docs/harness.md), read through the generated mapm_formats.h: a
+// header (format, record count, image size), then one record per SO sorted by (query, photon).
 // Lookup: the records of query q are [first[q], first[q+1]); the photon is found by binary search.
 #pragma once
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
+#include "mapm_formats.h"
+
 struct SoRecord {
   uint32_t q, photon, colour[3];
-  uint16_t flagsCond, pad;
-  int flags(int c) const { return (flagsCond >> (3 * c)) & 7; }
-  bool cond() const { return (flagsCond >> 9) & 1; }
+  uint16_t flagsCond;
+  int flags(int c) const { return (flagsCond >> (SO_FLAG_BITS * c)) & ((1 << SO_FLAG_BITS) - 1); }
+  bool cond() const { return (flagsCond >> SO_COND_BIT) & 1; }
 };
-static_assert(sizeof(SoRecord) == 24, "SoRecord must be 24 bytes");
 
 class Expected {
  public:
@@ -36,15 +31,28 @@ class Expected {
   std::string load(const std::string& path, uint32_t queries) {
     FILE* f = fopen(path.c_str(), "rb");
     if (!f) return path + ": cannot open";
-    uint8_t h[32];
-    if (fread(h, 1, 32, f) != 32 || memcmp(h, "MAPMSO01", 8) != 0) { fclose(f); return path + ": not an expected-SO file"; }
-    uint32_t version; uint64_t count;
-    memcpy(&version, h + 8, 4); memcpy(&count, h + 16, 8);
-    memcpy(&width, h + 24, 4); memcpy(&height, h + 28, 4);
-    ew = h[12]; mw = h[13];
-    if (version != 1) { fclose(f); return path + ": version " + std::to_string(version) + ", expected 1"; }
+    uint8_t h[EXPECTED_BYTES];
+    if (fread(h, 1, EXPECTED_BYTES, f) != EXPECTED_BYTES || expected_magic(h) != EXPECTED_MAGIC) {
+      fclose(f);
+      return path + ": not an expected-SO file";
+    }
+    if (expected_version(h) != EXPECTED_VERSION) {
+      fclose(f);
+      return path + ": version " + std::to_string(expected_version(h)) + ", expected " + std::to_string(EXPECTED_VERSION);
+    }
+    const uint64_t count = expected_count(h);
+    width = expected_width(h); height = expected_height(h);
+    ew = expected_exp_width(h); mw = expected_man_width(h);
     rec.resize(count);
-    if (count && fread(rec.data(), sizeof(SoRecord), count, f) != count) { fclose(f); return path + ": truncated"; }
+    std::vector<uint8_t> chunk(SO_BYTES * 65536);
+    for (uint64_t i = 0; i < count;) {
+      const uint64_t n = std::min<uint64_t>(count - i, 65536);
+      if (fread(chunk.data(), SO_BYTES, n, f) != n) { fclose(f); return path + ": truncated"; }
+      for (uint64_t k = 0; k < n; k++, i++) {
+        const uint8_t* r = &chunk[SO_BYTES * k];
+        rec[i] = {so_query(r), so_photon(r), {so_colour_r(r), so_colour_g(r), so_colour_b(r)}, so_flags(r)};
+      }
+    }
     fclose(f);
     first.assign(queries + 1, 0);
     remaining.assign(queries, 0);

@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.file.{Files, Path, Paths}
 
 import mapm.MapmError
-import mapm.memory.MemoryImage
+import mapm.format.MemoryImage
 import mapm.model._
 import mapm.sim.{ExpectedSo, Harness, MapmRtl}
 import mapm.params.MapmParams

@@ -34,8 +34,11 @@ final case class Record(name: String, bytes: Int, fields: Seq[Field]) {
 
   /** Field `f` of the record at byte `base` of `b` (a little-endian buffer), as an unsigned value
     * (8-byte fields as the raw 64 bits). */
-  def get(b: ByteBuffer, base: Long, f: String): Long = {
-    val fd = apply(f)
+  def get(b: ByteBuffer, base: Long, f: String): Long = get(b, base, apply(f))
+
+  /** Field `fd` (one of this record's, looked up once by a caller in a loop) of the record at
+    * byte `base` of `b`. */
+  def get(b: ByteBuffer, base: Long, fd: Field): Long = {
     val at = Record.index(base + fd.offset)
     fd.bytes match {
       case 1 => b.get(at).toLong & 0xffL
@@ -46,8 +49,10 @@ final case class Record(name: String, bytes: Int, fields: Seq[Field]) {
   }
 
   /** Writes `v` (its low bytes) into field `f` of the record at byte `base` of `b`. */
-  def put(b: ByteBuffer, base: Long, f: String, v: Long): Unit = {
-    val fd = apply(f)
+  def put(b: ByteBuffer, base: Long, f: String, v: Long): Unit = put(b, base, apply(f), v)
+
+  /** Writes `v` into field `fd` (one of this record's) of the record at byte `base` of `b`. */
+  def put(b: ByteBuffer, base: Long, fd: Field, v: Long): Unit = {
     val at = Record.index(base + fd.offset)
     fd.bytes match {
       case 1 => b.put(at, v.toByte)
@@ -62,6 +67,12 @@ object Record {
   private def index(at: Long): Int = {
     MapmError.check(at >= 0 && at <= Int.MaxValue, s"record offset $at is beyond what one buffer holds")
     at.toInt
+  }
+
+  /** An 8-character ASCII magic as the little-endian u64 an 8-byte field holds. */
+  def magic(s: String): Long = {
+    MapmError.check(s.length == 8 && s.forall(c => c >= ' ' && c < 127), s"magic $s must be 8 printable ASCII characters")
+    s.reverse.foldLeft(0L)((v, c) => v << 8 | c.toLong)
   }
 
   /** Fields of `bytes` each, one after another from `offset`, named `names`. */

@@ -59,28 +59,25 @@ class SoResult(p: MapmParams) extends Bundle {
   val photon = UInt(p.indices.nodeBits.W)
 }
 
-/** The counters the host reads at the end of a run (docs/mapm.md): 64 bits each. */
-class MapmCounters extends Bundle {
-  val cycles = UInt(64.W)
-  val queries = UInt(64.W)
-  val tsOps = UInt(64.W)
-  val soIssued = UInt(64.W)
-  val soPassed = UInt(64.W)
-  val stallNodeData = UInt(64.W)
-  val stallRsFull = UInt(64.W)
-  val stallRqFull = UInt(64.W)
-  val stallQuery = UInt(64.W)
-  val tsL1_hits = UInt(64.W)
-  val tsL1_misses = UInt(64.W)
-  val tsL2_hits = UInt(64.W)
-  val tsL2_misses = UInt(64.W)
-  val soq_hits = UInt(64.W)
-  val soq_misses = UInt(64.W)
-  val sopL1_hits = UInt(64.W)
-  val sopL1_misses = UInt(64.W)
-  val sopL2_hits = UInt(64.W)
-  val sopL2_misses = UInt(64.W)
-  val bytesFetched = UInt(64.W)
-  /** Largest occupancy any TSM's Register-queue bank reached (the overflow rule's witness). */
-  val rqPeak = UInt(64.W)
+import scala.language.dynamics
+
+/** The counters the host reads at the end of a run (docs/mapm.md): 64 bits each, one per name of
+  * [[MapmCounters.Names]] in that order (ports `io_counters_<name>`). A counter reads as a member,
+  * `c.tsOps`; the harness header lists the same names ([[mapm.top.Mapm.configHeader]]). */
+class MapmCounters extends Record with scala.Dynamic {
+  import scala.collection.immutable.SeqMap
+  // Chisel emits a Record's ports in the reverse of its element order.
+  val elements: SeqMap[String, UInt] = SeqMap.from(MapmCounters.Names.reverse.map(_ -> UInt(64.W)))
+
+  /** The counter called `name`. */
+  def selectDynamic(name: String): UInt =
+    elements.getOrElse(name, throw new NoSuchElementException(s"MapmCounters has no counter $name"))
+}
+
+object MapmCounters {
+  /** The counters' names, in port order. `rqPeak` is the largest occupancy any TSM's Register-queue
+    * bank reached (the overflow rule's witness). */
+  val Names: Seq[String] = Seq("cycles", "queries", "tsOps", "soIssued", "soPassed", "stallNodeData", "stallRsFull",
+    "stallRqFull", "stallQuery", "tsL1_hits", "tsL1_misses", "tsL2_hits", "tsL2_misses", "soq_hits", "soq_misses",
+    "sopL1_hits", "sopL1_misses", "sopL2_hits", "sopL2_misses", "bytesFetched", "rqPeak")
 }

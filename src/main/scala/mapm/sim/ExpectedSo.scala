@@ -4,6 +4,7 @@ import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.{Files, Path}
 
 import mapm.MapmError
+import mapm.format.ExpectedSoFile
 import mapm.model._
 
 /** The shader operations the MAPM must report for a frame, computed by the model in the
@@ -11,18 +12,10 @@ import mapm.model._
   *
   * Per query: the tree search ([[TreeSearcher]]) gives the photons; each SO's colour bits and
   * flags come from [[ShaderChainModel]] (the SOA's online chain, g guard digits) and its cond from
-  * [[CondModel]] (the SOA's cond check), whatever cond is, as the hardware reports every SO.
-  *
-  * File (read by tools/harness/expected.h), little-endian: a 32-byte header (magic `MAPMSO01`,
-  * u32 version 1, u8 exponent width, u8 mantissa width, u16 0, u64 record count, u32 image width,
-  * u32 image height), then one 24-byte record per SO sorted by (query, photon): u32 query, u32
-  * photon, u32 colour r, g, b, u16 flags r | g << 3 | b << 6 | cond << 9, u16 0.
+  * [[CondModel]] (the SOA's cond check), whatever cond is, as the hardware reports every SO. The
+  * file is an [[ExpectedSoFile]], records sorted by (query, photon).
   */
 object ExpectedSo {
-  val Magic: Array[Byte] = "MAPMSO01".getBytes("US-ASCII")
-  val HeaderBytes = 32
-  val RecordBytes = 24
-
   /** @param count   SOs (records written)
     * @param tsOps   tree-search operations of the model
     * @param passing SOs whose cond holds
@@ -36,7 +29,7 @@ object ExpectedSo {
             progress: Option[String] = None): Result = {
     MapmError.check(map.format == queries.format, s"expected SOs: photon map (${map.format}) and queries (${queries.format}) differ in format")
     val fmt = map.format
-    MapmError.check(fmt.width <= 32, s"expected SOs: format $fmt is wider than the 32-bit records")
+    ExpectedSoFile.checkFormat(fmt)
     val chain = new ShaderChainModel(fmt, g)
     val nq = queries.size
     val chunk = 512
@@ -51,28 +44,23 @@ object ExpectedSo {
       bar.foreach(_.advance((until - from).toLong))
     }
     bar.foreach(_.finish())
-    val count = buffers.map(_.length.toLong / RecordBytes).sum
+    val rec = ExpectedSoFile.record.bytes
+    val count = buffers.map(_.length.toLong / rec).sum
     val sum = new ExactSum(fmt, 3 * width * height)
     var passing = 0L
-    val header = ByteBuffer.allocate(HeaderBytes).order(ByteOrder.LITTLE_ENDIAN)
-    header.put(Magic).putInt(1).put(fmt.expWidth.toByte).put(fmt.manWidth.toByte).putShort(0)
-      .putLong(count).putInt(width).putInt(height)
     try {
       val out = new java.io.BufferedOutputStream(Files.newOutputStream(file), 1 << 20)
       try {
-        out.write(header.array())
+        out.write(ExpectedSoFile.headerBytes(fmt, count, width, height))
         for (b <- buffers) {
           out.write(b)
           val r = ByteBuffer.wrap(b).order(ByteOrder.LITTLE_ENDIAN)
-          var at = 0
-          while (at < b.length) {
-            if ((r.getShort(at + 20) & 0x200) != 0) {
-              passing += 1
-              val p = queries.pixel(r.getInt(at))
-              MapmError.check(p >= 0 && p < width * height, s"query ${r.getInt(at)}: pixel $p outside the ${width}x$height image")
-              for (ch <- 0 until 3) sum.add(3 * p + ch, r.getInt(at + 8 + 4 * ch).toLong & 0xffffffffL)
-            }
-            at += RecordBytes
+          for (at <- 0 until b.length by rec if ExpectedSoFile.cond(r, at)) {
+            passing += 1
+            val q = ExpectedSoFile.query(r, at)
+            val p = queries.pixel(q)
+            MapmError.check(p >= 0 && p < width * height, s"query $q: pixel $p outside the ${width}x$height image")
+            for (ch <- 0 until 3) sum.add(3 * p + ch, ExpectedSoFile.colour(r, at, ch))
           }
         }
       } finally out.close()
@@ -85,7 +73,8 @@ object ExpectedSo {
                            from: Int, until: Int, tsOps: java.util.concurrent.atomic.AtomicLong): Array[Byte] = {
     val fmt = map.format
     val buf = new java.io.ByteArrayOutputStream()
-    val rec = ByteBuffer.allocate(RecordBytes).order(ByteOrder.LITTLE_ENDIAN)
+    val rec = ByteBuffer.allocate(ExpectedSoFile.record.bytes).order(ByteOrder.LITTLE_ENDIAN)
+    val colour = new Array[Long](3)
     var ts = 0L
     for (q <- from until until) {
       searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
@@ -94,16 +83,15 @@ object ExpectedSo {
       java.util.Arrays.sort(photons)
       for (i <- photons) {
         val front = chain.front(map.kernel(i), map.brdf(i), map.h)
-        rec.clear()
-        rec.putInt(q).putInt(i)
         var flags = 0
         for (c <- 0 until 3) {
           val r = chain.channel(front, map.power(c)(i), queries.contribution(c)(q))
-          rec.putInt(r.bits.toInt)
-          flags |= r.flags << (3 * c)
+          colour(c) = r.bits
+          flags |= r.flags << (ExpectedSoFile.FlagBits * c)
         }
-        if (CondModel.cond(fmt, queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h)) flags |= 0x200
-        rec.putShort(flags.toShort).putShort(0)
+        if (CondModel.cond(fmt, queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h))
+          flags |= 1 << ExpectedSoFile.CondBit
+        ExpectedSoFile.put(rec, 0, q, i, colour, flags)
         buf.write(rec.array())
       }
     }

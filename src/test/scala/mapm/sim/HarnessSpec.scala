@@ -1,11 +1,11 @@
 package mapm.sim
 
-import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.{Files, Path, Paths}
 
-import mapm.memory.MemoryImage
+import mapm.format.{ExpectedSoFile, MemoryImage}
 import mapm.model.FloatFormat
 import mapm.params.MapmParams
+import mapm.top.Mapm
 import org.scalatest.funsuite.AnyFunSuite
 import java.math.{BigDecimal => JBig}
 
@@ -78,8 +78,10 @@ class HarnessSpec extends AnyFunSuite {
     val dir = Harness.root.resolve("target/harness-test/stub")
     Files.createDirectories(dir)
     Files.list(dir).forEach(p => Files.delete(p))
-    Emit.toFile(new HarnessStub(params), dir, s"HarnessStub_${params.name}.sv")
-    Harness.build(dir, s"HarnessStub_${params.name}")
+    val top = s"HarnessStub_${params.name}"
+    Emit.toFile(new HarnessStub(params), dir, s"$top.sv")
+    Files.write(dir.resolve("mapm_config.h"), Mapm.configHeader(params, top).getBytes("UTF-8"))
+    Harness.build(dir, top)
   }
 
   /** An image of `nq` queries with random contributions (fp32, some negative), pixels and a
@@ -98,12 +100,9 @@ class HarnessSpec extends AnyFunSuite {
     (0 until nq).map(q => (q, q % 5, (0 until 3).map(c => image.contribution(c)(q)), q % 3 != 0))
 
   private def writeExpected(path: Path, recs: Seq[(Int, Int, Seq[Long], Boolean)]): Path = {
-    val b = ByteBuffer.allocate(32 + 24 * recs.size).order(ByteOrder.LITTLE_ENDIAN)
-    b.put("MAPMSO01".getBytes("US-ASCII")).putInt(1).put(8.toByte).put(23.toByte).putShort(0).putLong(recs.size).putInt(width).putInt(height)
-    for ((q, ph, col, cond) <- recs.sortBy(r => (r._1, r._2))) {
-      b.putInt(q).putInt(ph); col.foreach(c => b.putInt(c.toInt)); b.putShort((if (cond) 0x200 else 0).toShort).putShort(0)
-    }
-    Files.write(path, b.array())
+    ExpectedSoFile.write(path, FloatFormat.fp32, width, height,
+      recs.map { case (q, ph, col, cond) => ExpectedSoFile.Row(q, ph, col, Seq(0, 0, 0), cond) })
+    path
   }
 
   private def run(name: String, recs: Seq[(Int, Int, Seq[Long], Boolean)], opts: Harness.RunOptions): Harness.Outcome = {

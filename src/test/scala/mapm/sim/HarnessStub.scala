@@ -3,12 +3,14 @@ package mapm.sim
 import chisel3._
 import chisel3.util._
 import mapm.memory.{MemPort, MemPortParams}
-import mapm.params.{MapmConfig, MapmParams, QueryIn, SoResult}
+import mapm.params.{MapmConfig, MapmCounters, MapmParams, QueryIn, SoResult}
 
 /** A stand-in with the whole MAPM's top IO (docs/mapm.md) for testing the Verilator harness on its
   * own: for each query it reads the query's 32-byte record from memory (two 16-byte beats), then
   * reports one SO on port q mod ports: photon q mod 5, colour = the record's contribution bits,
-  * flags 0, cond = (q mod 3 != 0). One query at a time. */
+  * flags 0, cond = (q mod 3 != 0). One query at a time. Of the counters it drives `cycles`,
+  * `queries`, `tsOps` (= queries), `stallQuery` (cycles waiting for memory) and `soq_misses`
+  * (= queries); the others stay 0. */
 class HarnessStub(p: MapmParams) extends Module {
   override def desiredName = s"HarnessStub_${p.name}"
   private val ports = p.counts.som * p.counts.soaPerSom
@@ -20,14 +22,7 @@ class HarnessStub(p: MapmParams) extends Module {
     val out = Output(Vec(ports, Valid(new SoResult(p))))
     val done = Output(Bool())
     val error = Output(Bool())
-    val counters = Output(new Bundle {
-      val cycles = UInt(64.W)
-      val queries = UInt(64.W)
-      val tsOps = UInt(64.W)
-      val stallQuery = UInt(64.W)
-      val soq_hits = UInt(64.W)
-      val soq_misses = UInt(64.W)
-    })
+    val counters = Output(new MapmCounters)
   })
   private val sIdle :: sReq :: sResp :: sOut :: Nil = Enum(4)
   private val state = RegInit(sIdle)
@@ -63,10 +58,10 @@ class HarnessStub(p: MapmParams) extends Module {
   when(state === sOut) { state := sIdle }
   io.done := state === sIdle
   io.error := io.mem.resp.fire && io.mem.resp.bits.id =/= 5.U
+  io.counters.elements.values.foreach(_ := 0.U)
   io.counters.cycles := cycles
   io.counters.queries := queries
   io.counters.tsOps := queries
   io.counters.stallQuery := waits
-  io.counters.soq_hits := 0.U
   io.counters.soq_misses := queries
 }

@@ -1,12 +1,12 @@
 package mapm.top
 
 import mapm.params._
-import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.{Files, Paths}
 
 import chisel3._
 import chiseltest._
-import mapm.memory.{DramModel, DramTiming, MemImage, MemoryImage}
+import mapm.format.{ExpectedSoFile, MemoryImage}
+import mapm.memory.{DramModel, DramTiming, MemImage}
 import mapm.model.{FloatFormat, Frame, SceneConfig, TestScenes}
 import mapm.sim.ExpectedSo
 import mapm.testutil.Sim
@@ -39,13 +39,8 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
     val image = MemoryImage.from(frame.map, frame.querySet)
     val file = dir.resolve(s"p$photons-${fmt.name}-expected.bin")
     val res = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, file, 2)
-    val b = ByteBuffer.wrap(Files.readAllBytes(file)).order(ByteOrder.LITTLE_ENDIAN)
-    val expected = (0 until res.count.toInt).map { i =>
-      val at = ExpectedSo.HeaderBytes + i * ExpectedSo.RecordBytes
-      val fl = b.getShort(at + 20) & 0xffff
-      (b.getInt(at), b.getInt(at + 4)) ->
-        (Seq(0, 1, 2).map(c => b.getInt(at + 8 + 4 * c).toLong & 0xffffffffL), Seq(0, 1, 2).map(c => (fl >> (3 * c)) & 7), (fl & 0x200) != 0)
-    }
+    val expected = ExpectedSoFile.read(file).rows.map(r => (r.query, r.photon) -> (r.colour, r.flags, r.cond))
+    assert(expected.size == res.count)
     assert(expected.map(_._1).distinct.size == expected.size, "the model yields each (query, photon) once")
     // Padded to whole 64-byte lines: the caches fetch whole lines.
     val bytes = java.util.Arrays.copyOf(image.toBytes, ((image.totalBytes + 127) / 64 * 64).toInt)

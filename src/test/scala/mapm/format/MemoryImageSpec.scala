@@ -1,4 +1,4 @@
-package mapm.memory
+package mapm.format
 
 import java.nio.{ByteBuffer, ByteOrder}
 

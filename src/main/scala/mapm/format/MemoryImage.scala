@@ -1,0 +1,189 @@
+package mapm.format
+
+import java.nio.{ByteBuffer, ByteOrder}
+
+import mapm.MapmError
+import mapm.model.{FloatFormat, NodeWord, PhotonMap, QuerySet}
+
+/** The binary memory image the MAPM hardware reads (docs/memory-layout.md): the header, the KD
+  * node array, the photon array, the query array and the query stream, each starting at a
+  * multiple of [[MemoryLayout.Alignment]] bytes. Every record and offset is [[MemoryLayout]]'s;
+  * this class holds the fields as arrays indexed by node (photon fields in node order) or query,
+  * and writes and reads them through those records.
+  *
+  * With `packed`, format values sit in 2-byte slots (formats up to 16 bits wide), which halves
+  * the photon and query records; otherwise in 4-byte slots (formats up to 32 bits wide).
+  */
+final class MemoryImage(
+    val format: FloatFormat,
+    val packed: Boolean,
+    val h: Long,
+    val nodeSplit: Array[Long],
+    val nodeWord: Array[Int],
+    /** photon(f)(i): field f of node i's photon, f in [[MemoryLayout.PhotonFields]] order */
+    val photon: Array[Array[Long]],
+    /** contribution(c)(q) for channel c of query q */
+    val contribution: Array[Array[Long]],
+    val pixel: Array[Int],
+    /** position(a)(q) for axis a of query q */
+    val position: Array[Array[Long]],
+    /** the query stream in issue order: query index per entry (its position comes from `position`) */
+    val stream: Array[Int]
+) {
+  import MemoryImage._
+  import MemoryLayout.align
+
+  val nodeCount: Int = nodeWord.length
+  val queryCount: Int = pixel.length
+  val slot: Int = MemoryLayout.slotBytes(format, packed)
+  private val records = new Records(slot)
+  val photonBytes: Int = records.photonR.bytes
+  val queryBytes: Int = records.queryR.bytes
+  val nodeBase: Long = MemoryLayout.header.bytes
+  val photonBase: Long = align(nodeBase + MemoryLayout.node.bytes.toLong * nodeCount)
+  val queryBase: Long = align(photonBase + photonBytes.toLong * nodeCount)
+  val streamBase: Long = align(queryBase + queryBytes.toLong * queryCount)
+  val totalBytes: Long = streamBase + records.streamR.bytes.toLong * stream.length
+
+  /** The image as bytes. */
+  def toBytes: Array[Byte] = {
+    MapmError.check(totalBytes <= Int.MaxValue, s"memory image of $totalBytes bytes is too large to build in memory")
+    val b = ByteBuffer.allocate(totalBytes.toInt).order(ByteOrder.LITTLE_ENDIAN)
+    val hd = MemoryLayout.header
+    for ((f, v) <- Seq("magic" -> Record.magic(MemoryLayout.Magic), "version" -> MemoryLayout.Version.toLong,
+                       "exp_width" -> format.expWidth.toLong, "man_width" -> format.manWidth.toLong, "packed" -> (if (packed) 1L else 0L),
+                       "slot" -> slot.toLong, "nodes" -> nodeCount.toLong, "queries" -> queryCount.toLong,
+                       "stream_entries" -> stream.length.toLong, "h" -> h, "photon_base" -> photonBase, "query_base" -> queryBase,
+                       "stream_base" -> streamBase, "total_bytes" -> totalBytes))
+      hd.put(b, 0, f, v)
+    import records._
+    for (i <- 0 until nodeCount) {
+      val at = nodeBase + nodeR.bytes.toLong * i
+      nodeR.put(b, at, nodeSplitF, nodeSplit(i)); nodeR.put(b, at, nodeWordF, nodeWord(i).toLong)
+      val p = photonBase + photonBytes.toLong * i
+      for (f <- 0 until 8) photonR.put(b, p, photonF(f), photon(f)(i))
+    }
+    for (q <- 0 until queryCount) {
+      val at = queryBase + queryBytes.toLong * q
+      for (c <- 0 until 3) queryR.put(b, at, contribF(c), contribution(c)(q))
+      for (a <- 0 until 3) queryR.put(b, at, queryPosF(a), position(a)(q))
+      queryR.put(b, at, pixelF, pixel(q).toLong)
+    }
+    for ((q, k) <- stream.zipWithIndex) {
+      val at = streamBase + streamR.bytes.toLong * k
+      for (a <- 0 until 3) streamR.put(b, at, streamPosF(a), position(a)(q))
+      streamR.put(b, at, streamQueryF, q.toLong)
+    }
+    b.array()
+  }
+
+  def write(path: java.nio.file.Path): Unit =
+    try java.nio.file.Files.write(path, toBytes)
+    catch { case e: java.io.IOException => MapmError.fail(s"cannot write memory image $path: $e") }
+
+  override def equals(o: Any): Boolean = o match {
+    case m: MemoryImage =>
+      format == m.format && packed == m.packed && h == m.h &&
+        java.util.Arrays.equals(nodeSplit, m.nodeSplit) && java.util.Arrays.equals(nodeWord, m.nodeWord) &&
+        java.util.Arrays.deepEquals(photon.asInstanceOf[Array[AnyRef]], m.photon.asInstanceOf[Array[AnyRef]]) &&
+        java.util.Arrays.deepEquals(contribution.asInstanceOf[Array[AnyRef]], m.contribution.asInstanceOf[Array[AnyRef]]) &&
+        java.util.Arrays.equals(pixel, m.pixel) &&
+        java.util.Arrays.deepEquals(position.asInstanceOf[Array[AnyRef]], m.position.asInstanceOf[Array[AnyRef]]) &&
+        java.util.Arrays.equals(stream, m.stream)
+    case _ => false
+  }
+  override def hashCode: Int = (format, packed, h, nodeCount, queryCount, java.util.Arrays.hashCode(nodeWord)).hashCode
+}
+
+object MemoryImage {
+  /** [[MemoryLayout]]'s records for `slot`-byte slots, with their fields looked up once. */
+  private final class Records(slot: Int) {
+    val nodeR: Record = MemoryLayout.node
+    val photonR: Record = MemoryLayout.photon(slot)
+    val queryR: Record = MemoryLayout.query(slot)
+    val streamR: Record = MemoryLayout.stream(slot)
+    val nodeSplitF: Field = nodeR("split")
+    val nodeWordF: Field = nodeR("word")
+    val photonF: IndexedSeq[Field] = MemoryLayout.PhotonFields.map(photonR(_)).toIndexedSeq
+    val contribF: IndexedSeq[Field] = IndexedSeq("contrib_r", "contrib_g", "contrib_b").map(queryR(_))
+    val queryPosF: IndexedSeq[Field] = IndexedSeq("x", "y", "z").map(queryR(_))
+    val pixelF: Field = queryR("pixel")
+    val streamPosF: IndexedSeq[Field] = IndexedSeq("x", "y", "z").map(streamR(_))
+    val streamQueryF: Field = streamR("query")
+  }
+
+  /** The image of a photon map and its queries; the stream issues the queries in `order`
+    * (default: query order). */
+  def from(map: PhotonMap, queries: QuerySet, packed: Boolean = false, order: Option[Array[Int]] = None): MemoryImage = {
+    MapmError.check(map.format == queries.format, s"memory image: photon map (${map.format}) and queries (${queries.format}) use different formats")
+    MemoryLayout.slotBytes(map.format, packed)
+    val stream = order.getOrElse(Array.tabulate(queries.size)(identity))
+    MapmError.check(stream.sorted.sameElements(0 until queries.size), "memory image: the stream order must be a permutation of the queries")
+    new MemoryImage(map.format, packed, map.h, map.split.clone(), NodeWord.all(map.tree),
+      Array(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).map(_.clone()),
+      queries.contribution.map(_.clone()), queries.pixel.clone(), Array(queries.qx, queries.qy, queries.qz).map(_.clone()), stream.clone())
+  }
+
+  def read(path: java.nio.file.Path): MemoryImage = {
+    val bytes =
+      try java.nio.file.Files.readAllBytes(path)
+      catch { case e: java.io.IOException => MapmError.fail(s"cannot read memory image $path: $e") }
+    fromBytes(bytes, path.toString)
+  }
+
+  /** Parses an image; any inconsistency is a [[MapmError]] naming `name`. */
+  def fromBytes(bytes: Array[Byte], name: String = "memory image"): MemoryImage = {
+    def bad(what: String): Nothing = MapmError.fail(s"$name: $what")
+    val hd = MemoryLayout.header
+    if (bytes.length < hd.bytes) bad(s"${bytes.length} bytes is shorter than the ${hd.bytes}-byte header")
+    val b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
+    def field(f: String): Long = hd.get(b, 0, f)
+    if (field("magic") != Record.magic(MemoryLayout.Magic)) bad("not a MAPM memory image (bad magic)")
+    val version = field("version")
+    if (version != MemoryLayout.Version) bad(s"version $version, expected ${MemoryLayout.Version}")
+    val (ew, mw) = (field("exp_width").toInt, field("man_width").toInt)
+    if (ew < 2 || ew > 11 || mw < 1 || mw > 52) bad(s"invalid format e${ew}m$mw")
+    val format = FloatFormat(ew, mw)
+    val packed = field("packed") match { case 0 => false; case 1 => true; case v => bad(s"packed flag $v is not 0 or 1") }
+    val slot = try MemoryLayout.slotBytes(format, packed) catch { case e: MapmError => bad(e.getMessage) }
+    if (field("slot") != slot) bad(s"slot size ${field("slot")} does not match format $format ($slot)")
+    val (n, nq, ns) = (field("nodes"), field("queries"), field("stream_entries"))
+    if (n > Int.MaxValue || nq > Int.MaxValue || ns != nq) bad(s"inconsistent counts: $n nodes, $nq queries, $ns stream entries")
+    val h = field("h") & format.mask
+    val shape = new MemoryImage(format, packed, h, new Array[Long](n.toInt), new Array[Int](n.toInt), Array.fill(8)(new Array[Long](n.toInt)),
+      Array.fill(3)(new Array[Long](nq.toInt)), new Array[Int](nq.toInt), Array.fill(3)(new Array[Long](nq.toInt)), new Array[Int](nq.toInt))
+    for ((f, want, what) <- Seq(("photon_base", shape.photonBase, "photon"), ("query_base", shape.queryBase, "query"),
+                                ("stream_base", shape.streamBase, "stream"), ("total_bytes", shape.totalBytes, "total size")))
+      if (field(f) != want) bad(s"$what offset ${field(f)}, expected $want for $n nodes and $nq queries")
+    if (bytes.length != shape.totalBytes) bad(s"${bytes.length} bytes, the header says ${shape.totalBytes}")
+    val r = new Records(slot)
+    import r._
+    val mask = format.mask
+    for (i <- 0 until shape.nodeCount) {
+      val at = shape.nodeBase + nodeR.bytes.toLong * i
+      shape.nodeSplit(i) = nodeR.get(b, at, nodeSplitF) & mask
+      val w = nodeR.get(b, at, nodeWordF).toInt
+      if (NodeWord.axis(w) > 2) bad(s"node $i has axis field 3")
+      if ((w & NodeWord.HasRight) != 0 && (NodeWord.right(w) <= i || NodeWord.right(w) >= n)) bad(s"node $i has right child ${NodeWord.right(w)} outside ${i + 1}..${n - 1}")
+      if ((w & NodeWord.HasLeft) != 0 && i + 1 >= n) bad(s"node $i has a left child beyond the last node")
+      shape.nodeWord(i) = w
+      val p = shape.photonBase + shape.photonBytes.toLong * i
+      for (f <- 0 until 8) shape.photon(f)(i) = photonR.get(b, p, photonF(f)) & mask
+    }
+    for (q <- 0 until shape.queryCount) {
+      val at = shape.queryBase + shape.queryBytes.toLong * q
+      for (c <- 0 until 3) shape.contribution(c)(q) = queryR.get(b, at, contribF(c)) & mask
+      shape.pixel(q) = queryR.get(b, at, pixelF).toInt
+      for (a <- 0 until 3) shape.position(a)(q) = queryR.get(b, at, queryPosF(a)) & mask
+    }
+    for (k <- 0 until shape.queryCount) {
+      val at = shape.streamBase + streamR.bytes.toLong * k
+      val q = streamR.get(b, at, streamQueryF)
+      if (q >= nq) bad(s"stream entry $k names query $q outside 0..${nq - 1}")
+      for (a <- 0 until 3)
+        if ((streamR.get(b, at, streamPosF(a)) & mask) != shape.position(a)(q.toInt)) bad(s"stream entry $k: position differs from query $q's record")
+      shape.stream(k) = q.toInt
+    }
+    shape
+  }
+}

@@ -1,0 +1,47 @@
+// The memory image (docs/memory-layout.md) as the harness reads it: the header's fields, the query
+// records' pixel indices and the query stream, every field through the generated mapm_formats.h
+// (mapm.format.MemoryLayout). The slot field of the header selects the packed or 4-byte layout.
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "mapm_formats.h"
+
+struct Image {
+  std::vector<uint8_t> bytes;
+  int ew = 0, mw = 0;
+  unsigned slot = 4;
+  uint32_t nodes = 0, queries = 0, streamEntries = 0, h = 0;
+  uint64_t photonBase = 0, queryBase = 0, streamBase = 0;
+
+  // Loads `path`; returns an error message or "".
+  std::string load(const std::string& path) {
+    FILE* f = fopen(path.c_str(), "rb");
+    if (!f) return path + ": cannot open";
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    bytes.resize(n < 0 ? 0 : n);
+    size_t got = fread(bytes.data(), 1, bytes.size(), f);
+    fclose(f);
+    if (got != bytes.size() || bytes.size() < IMAGE_BYTES || image_magic(bytes.data()) != IMAGE_MAGIC)
+      return path + ": not a MAPM memory image";
+    const uint8_t* hd = bytes.data();
+    if (image_version(hd) != IMAGE_VERSION)
+      return path + ": version " + std::to_string(image_version(hd)) + ", expected " + std::to_string(IMAGE_VERSION);
+    ew = image_exp_width(hd); mw = image_man_width(hd); slot = image_slot(hd);
+    nodes = image_nodes(hd); queries = image_queries(hd); streamEntries = image_stream_entries(hd); h = image_h(hd);
+    photonBase = image_photon_base(hd); queryBase = image_query_base(hd); streamBase = image_stream_base(hd);
+    if (image_total_bytes(hd) != bytes.size()) return path + ": size differs from its header";
+    return "";
+  }
+  uint32_t pixel(uint32_t q) const { return query_pixel(&bytes[queryBase + (uint64_t)query_bytes(slot) * q], slot); }
+  // Stream entry k: the position to send with the query, and the query's index.
+  const uint8_t* entry(uint32_t k) const { return &bytes[streamBase + (uint64_t)stream_bytes(slot) * k]; }
+  uint64_t streamX(uint32_t k) const { return stream_x(entry(k), slot); }
+  uint64_t streamY(uint32_t k) const { return stream_y(entry(k), slot); }
+  uint64_t streamZ(uint32_t k) const { return stream_z(entry(k), slot); }
+  uint32_t streamQuery(uint32_t k) const { return stream_query(entry(k), slot); }
+};

@@ -1,0 +1,75 @@
+// The harness's command line (docs/harness.md), parsed with getopt_long. Arguments starting with
+// `+verilator` are left to Verilator.
+#pragma once
+#include <getopt.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+struct Options {
+  std::string image, expected, out = ".", wave;
+  uint64_t latency = 100, latencyMax = 0, maxCycles = 0, idleCycles = 200000, seed = 1, waveStart = 0, waveEnd = UINT64_MAX;
+  double bandwidth = 14.0, clockGhz = 1.5, queryGap = 0, reqStall = 0, respGap = 0;
+};
+
+[[noreturn]] inline void usage(const std::string& msg) {
+  fprintf(stderr,
+          "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--latency-max N] [--bandwidth B]\n"
+          "  [--query-gap P] [--req-stall P] [--resp-gap P] [--max-cycles N] [--idle-cycles N] [--seed N] [--clock-ghz F]\n"
+          "  [--wave FILE.fst --wave-start N --wave-end N]\n",
+          msg.c_str());
+  exit(2);
+}
+
+inline Options parseOptions(int argc, char** argv) {
+  enum { IMAGE = 1, EXPECTED, OUT, LATENCY, LATENCY_MAX, BANDWIDTH, QUERY_GAP, REQ_STALL, RESP_GAP, MAX_CYCLES, IDLE_CYCLES,
+         SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END };
+  static const option longOptions[] = {
+      {"image", required_argument, nullptr, IMAGE},           {"expected", required_argument, nullptr, EXPECTED},
+      {"out", required_argument, nullptr, OUT},               {"latency", required_argument, nullptr, LATENCY},
+      {"latency-max", required_argument, nullptr, LATENCY_MAX}, {"bandwidth", required_argument, nullptr, BANDWIDTH},
+      {"query-gap", required_argument, nullptr, QUERY_GAP},   {"req-stall", required_argument, nullptr, REQ_STALL},
+      {"resp-gap", required_argument, nullptr, RESP_GAP},     {"max-cycles", required_argument, nullptr, MAX_CYCLES},
+      {"idle-cycles", required_argument, nullptr, IDLE_CYCLES}, {"seed", required_argument, nullptr, SEED},
+      {"clock-ghz", required_argument, nullptr, CLOCK_GHZ},   {"wave", required_argument, nullptr, WAVE},
+      {"wave-start", required_argument, nullptr, WAVE_START}, {"wave-end", required_argument, nullptr, WAVE_END},
+      {nullptr, 0, nullptr, 0}};
+  Options o;
+  opterr = 0;  // the errors below say what went wrong
+  int c, index = -1;
+  while ((c = getopt_long(argc, argv, ":", longOptions, &index)) != -1) {
+    const std::string a = argv[optind - 1];
+    if (c == ':') usage("option " + a + " needs a value");
+    if (c == '?') usage("unknown option " + a);
+    const std::string name = std::string("--") + longOptions[index].name, v = optarg;
+    char* end = nullptr;
+    auto u = [&]() { uint64_t r = strtoull(v.c_str(), &end, 10); if (*end || v.empty()) usage(name + ": not a number: " + v); return r; };
+    auto d = [&]() { double r = strtod(v.c_str(), &end); if (*end || v.empty() || !(r > 0)) usage(name + ": not a positive number: " + v); return r; };
+    auto prob = [&]() { double r = strtod(v.c_str(), &end); if (*end || v.empty() || !(r >= 0 && r < 1)) usage(name + ": not a probability in [0, 1): " + v); return r; };
+    switch (c) {
+      case IMAGE: o.image = v; break;
+      case EXPECTED: o.expected = v; break;
+      case OUT: o.out = v; break;
+      case LATENCY: o.latency = u(); break;
+      case LATENCY_MAX: o.latencyMax = u(); break;
+      case BANDWIDTH: o.bandwidth = d(); break;
+      case QUERY_GAP: o.queryGap = prob(); break;
+      case REQ_STALL: o.reqStall = prob(); break;
+      case RESP_GAP: o.respGap = prob(); break;
+      case MAX_CYCLES: o.maxCycles = u(); break;
+      case IDLE_CYCLES: o.idleCycles = u(); break;
+      case SEED: o.seed = u(); break;
+      case CLOCK_GHZ: o.clockGhz = d(); break;
+      case WAVE: o.wave = v; break;
+      case WAVE_START: o.waveStart = u(); break;
+      case WAVE_END: o.waveEnd = u(); break;
+    }
+  }
+  for (int i = optind; i < argc; i++)  // getopt_long moves the arguments that are not options here
+    if (std::string(argv[i]).rfind("+verilator", 0) != 0) usage("unknown option " + std::string(argv[i]));
+  if (o.image.empty() || o.expected.empty()) usage("--image and --expected are required");
+  if (o.latencyMax && o.latencyMax < o.latency) usage("--latency-max must be at least --latency");
+  return o;
+}
