@@ -4,7 +4,8 @@ import mapm.fpu.LintCheck
 import mapm.model.{CondGen, CondModel, FloatFormat, ShaderChainModel}
 import mapm.testutil.ShaderCases
 import org.scalatest.funsuite.AnyFunSuite
-import SoaSim.{Op, Out}
+import mapm.sim.SoaRunner
+import mapm.sim.SoaRunner.{Op, Out}
 
 /** The SOA top (colour chain and cond check side by side) in Verilator against the bit-accurate
   * models ShaderChainModel (colour, flags) and CondModel (cond): seeded random operations back to
@@ -37,7 +38,7 @@ class SOASpec extends AnyFunSuite {
   }
 
   private def streamCheck(f: FloatFormat, g: Int, count: Int, gapped: Int, seed: Long): Unit = {
-    val sim = new SoaSim(f, g)
+    val sim = SoaRunner(f, g)
     val chain = new ShaderChainModel(f, g)
     val ops = operations(f, count + gapped, seed)
     val rnd = new scala.util.Random(seed)
