@@ -1,5 +1,6 @@
 package mapm.fpu
 
+import mapm.Slow
 import mapm.fpu.FpuTesting._
 import mapm.model.{FloatFormat, SoftFloat}
 import mapm.testutil.Sim
@@ -7,6 +8,7 @@ import org.scalatest.funsuite.AnyFunSuite
 
 /** FAdd against SoftFloat (itself checked against exact rationals), bit for bit, streaming with
   * random idle cycles. */
+@Slow
 class FAddSpec extends AnyFunSuite with Sim {
 
   /** Runs `count` operations (a, b, sub) through FAdd(f, cuts) and checks every result. */

@@ -1,5 +1,6 @@
 package mapm.fpu
 
+import mapm.Slow
 import mapm.fpu.FpuTesting._
 import mapm.model.{FloatFormat, SoftFloat}
 import mapm.testutil.Sim
@@ -7,6 +8,7 @@ import org.scalatest.funsuite.AnyFunSuite
 
 /** FCmpLt against SoftFloat.lt (itself checked against exact rationals), streaming with random
   * idle cycles. */
+@Slow
 class FCmpLtSpec extends AnyFunSuite with Sim {
 
   /** `count` comparisons a < b, (a, b) = op(i), through FCmpLt(f, cuts) against SoftFloat.lt. */

@@ -1,5 +1,6 @@
 package mapm.fpu
 
+import mapm.Slow
 import mapm.fpu.FpuTesting._
 import mapm.model.{FloatFormat, SoftFloat}
 import mapm.testutil.Sim
@@ -7,6 +8,7 @@ import org.scalatest.funsuite.AnyFunSuite
 
 /** FMul against SoftFloat (itself checked against exact rationals), bit for bit, streaming with
   * random idle cycles. */
+@Slow
 class FMulSpec extends AnyFunSuite with Sim {
 
   /** `count` products a * b, (a, b) = op(i), through FMul(f, cuts) against SoftFloat.mul. */

@@ -1,5 +1,6 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.fpu.LintCheck
 import mapm.model.{CondGen, CondModel, FloatFormat, ShaderChainModel}
 import mapm.testutil.ShaderCases
@@ -11,6 +12,7 @@ import mapm.sim.SoaRunner.{Op, Out}
   * models ShaderChainModel (colour, flags) and CondModel (cond): seeded random operations back to
   * back in one simulation, then with random valid gaps; every result exactly `latency` cycles
   * after its operation, with its tag, in order, none lost; and Verilator lint. */
+@Slow
 class SOASpec extends AnyFunSuite {
   test("latency and name: the colour chain is the longer path; fp32 42 (g = 0) and 45 (g = 3), fp16 32 (g = 3)") {
     for ((f, g, want) <- Seq((FloatFormat.fp32, 0, 42), (FloatFormat.fp32, 3, 45), (FloatFormat.fp16, 3, 32))) {

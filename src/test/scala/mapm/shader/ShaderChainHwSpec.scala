@@ -1,5 +1,6 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.model.{FloatFormat, ShaderChainModel, ShaderVectorFiles, ShaderVectors}
 import mapm.testutil.{ShaderCases, SharedFiles}
 import org.scalatest.funsuite.AnyFunSuite
@@ -9,6 +10,7 @@ import mapm.sim.ShaderChainRunner.{Op, Out}
 /** The emitted ShaderChain in Verilator against the vector files (result and flags of every
   * row) and against the bit-accurate model on seeded random operations streamed back to back
   * in one simulation, then with random valid gaps (latency, order, no loss). */
+@Slow
 class ShaderChainHwSpec extends AnyFunSuite with SharedFiles {
   private val sims = scala.collection.mutable.Map.empty[(FloatFormat, Int), PipeRunner[Op, Out]]
   private def sim(f: FloatFormat, g: Int): PipeRunner[Op, Out] = sims.getOrElseUpdate((f, g), ShaderChainRunner(f, g))

@@ -1,5 +1,6 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.model.{FloatFormat, ShaderChainModel}
 import org.scalatest.funsuite.AnyFunSuite
 import mapm.sim.ShaderChainRunner
@@ -8,6 +9,7 @@ import mapm.sim.ShaderChainRunner.Op
 /** Exhaustive at n = 5: every combination of the five significands (16^5 = 1,048,576 channel
   * evaluations, three per operation) through the emitted hardware, equal to the bit-accurate
   * model (which ShaderChainModelSpec checks against exact arithmetic on the same set). */
+@Slow
 class ShaderChainSmallSpec extends AnyFunSuite {
   private val f = FloatFormat(5, 4)
 
