@@ -4,7 +4,8 @@ import java.nio.file.Paths
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.{CondModel, FloatFormat, ShaderChainModel, ShaderVectors}
-import mapm.shader.{SOA, SoaSim}
+import mapm.shader.SOA
+import mapm.sim.SoaRunner
 import Args.FloatFormatReader
 
 /** `mapm soa-vectors`: runs a shader-chain vector file (../shared/vectors format) through the
@@ -37,11 +38,11 @@ object SoaVectorsCommand extends Command {
 
     val hwCount = if (!hw.value) 0 else {
       val t1 = System.nanoTime()
-      val sim = new SoaSim(format, g)
+      val sim = SoaRunner(format, g)
       val t2 = System.nanoTime()
       var k = 0; var count = 0; var first: Option[String] = None
       val ops = rows.iterator.zipWithIndex.map { case (r, i) =>
-        Some(SoaSim.Op(Array(r.kernel, r.brdf, r.h, r.power, r.power, r.power, r.contrib, r.contrib, r.contrib) ++
+        Some(SoaRunner.Op(Array(r.kernel, r.brdf, r.h, r.power, r.power, r.power, r.contrib, r.contrib, r.contrib) ++
           Array.fill(6)(0L), i & 0xffff))
       }
       sim.run(ops) { o =>

@@ -7,7 +7,7 @@ import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.{FloatFormat, TsaModel}
 import mapm.model.TsaModel.Outcome
-import mapm.sim.TsaHardware
+import mapm.sim.TsaRunner
 import Args.FloatFormatReader
 
 /** `mapm tsa-vectors`: runs (p, h, s) rows of a CSV file through the TSA model and, with `--hw`,
@@ -80,7 +80,7 @@ object TsaVectorsCommand extends Command {
     val model = rows.map(r => TsaModel.evaluate(format, r.p, r.h, r.s))
     val hardware = if (!hw.value) None else {
       System.err.println(s"$name: building the Verilator simulation of the $format TSA (cached after the first build) ...")
-      Some(new TsaHardware(format).run(rows.map(r => (r.p, r.h, r.s))))
+      Some(TsaRunner.run(format, rows.map(r => (r.p, r.h, r.s))))
     }
 
     val csv = new StringBuilder

@@ -9,15 +9,22 @@ import mapm.MapmError
   *
   * [[VerilatorPipe.build]] emits the module, writes a C++ harness specialised to its ports and
   * verilates both (cached by a hash of the Verilog, so a second build of the same design is free).
-  * [[run]] then feeds one row per clock cycle: the values of every input port except `clock` and
-  * `reset`, in [[inputs]] order. For each row the harness applies the inputs, evaluates, records
-  * every output port (in [[outputs]] order: the values a test bench would peek in that cycle before
-  * the clock edge) and then clocks once. Reset is held for `resetCycles` cycles before the first row.
+  * [[run]] then feeds one row per clock cycle: the values of the pipe's [[inputs]], in that order.
+  * For each row the harness applies the inputs, evaluates, records the [[outputs]] (in that order:
+  * the values a test bench would peek in that cycle before the clock edge) and then clocks once.
+  * Reset is held for `resetCycles` cycles before the first row.
+  *
+  * A pipe from [[VerilatorPipe.build]] has every port but `clock` and `reset` as inputs and
+  * outputs, in declaration order, found by name with [[in]] and [[out]]. A pipe from
+  * [[VerilatorPipe.of]] is typed instead: its inputs and outputs are the leaves of two chosen
+  * fields of the module (say `io.in` and `io.out`) in field order, and every other input is held
+  * at 0.
   *
   * The wire protocol is text: one line per cycle of space-separated hexadecimal values, which keeps
   * the harness generic and costs about a microsecond per port per cycle.
   */
-final class VerilatorPipe private (val exe: Path, val top: String, val inputs: Seq[Emit.Port],
+final class VerilatorPipe private (val exe: Path, val top: String, harnessInputs: Seq[Emit.Port],
+                                   harnessOutputs: Seq[Emit.Port], val inputs: Seq[Emit.Port],
                                    val outputs: Seq[Emit.Port]) {
 
   /** Index of an input port by name (e.g. `io_in_valid`). */
@@ -30,6 +37,16 @@ final class VerilatorPipe private (val exe: Path, val top: String, val inputs: S
     require(i >= 0, s"$top has no port '$name' (ports: ${ports.map(_.name).mkString(", ")})")
     i
   }
+
+  /** For each harness input, its index in a row, or -1 for an input held at 0. */
+  private val rowIndex: Array[Int] = harnessInputs.map(p => inputs.indexWhere(_.name == p.name)).toArray
+  /** For each of [[outputs]], its index in the harness's output line. */
+  private val lineIndex: Array[Int] = outputs.map(p => harnessOutputs.indexWhere(_.name == p.name)).toArray
+
+  /** The same simulation with the named ports as its inputs and outputs (in harness order). */
+  private[sim] def select(ins: Set[String], outs: Set[String]): VerilatorPipe =
+    new VerilatorPipe(exe, top, harnessInputs, harnessOutputs, harnessInputs.filter(p => ins(p.name)),
+      harnessOutputs.filter(p => outs(p.name)))
 
   /** Streams `rows` (one per cycle, values in [[inputs]] order) through the design and calls
     * `sink` with each cycle's output values (in [[outputs]] order). Returns the cycles run. */
@@ -44,7 +61,12 @@ final class VerilatorPipe private (val exe: Path, val top: String, val inputs: S
           require(row.length == inputs.length, s"row has ${row.length} values, $top has ${inputs.length} inputs")
           sb.setLength(0)
           var i = 0
-          while (i < row.length) { if (i > 0) sb.append(' '); sb.append(row(i).toString(16)); i += 1 }
+          while (i < rowIndex.length) {
+            if (i > 0) sb.append(' ')
+            val k = rowIndex(i)
+            sb.append(if (k < 0) "0" else row(k).toString(16))
+            i += 1
+          }
           sb.append('\n')
           w.write(sb.toString)
         }
@@ -58,8 +80,8 @@ final class VerilatorPipe private (val exe: Path, val top: String, val inputs: S
     var line = r.readLine()
     while (line != null) {
       val toks = line.split(' ')
-      if (toks.length != outputs.length) MapmError.fail(s"$top harness printed '$line'")
-      sink(toks.map(t => BigInt(t, 16)))
+      if (toks.length != harnessOutputs.length) MapmError.fail(s"$top harness printed '$line'")
+      sink(lineIndex.map(k => BigInt(toks(k), 16)))
       cycles += 1
       line = r.readLine()
     }
@@ -114,7 +136,37 @@ object VerilatorPipe {
       }
       Verilator.build(vlt :+ svFile, cpp, top, dir, "sim")
     }
-    new VerilatorPipe(exe, top, ins, outs)
+    new VerilatorPipe(exe, top, ins, outs, ins, outs)
+  }
+
+  /** A typed pipe: emits `gen` and builds it as [[build]] does, then takes as rows the input
+    * leaves of `in` and as output rows the output leaves of `out`, each in field order (the order
+    * Chisel declares them: a Valid's `valid` before its `bits`, a Vec's elements by index), e.g.
+    * `of(new FMul(fmt))(_.io.in, _.io.out)` has rows (valid, a, b) and outputs (valid, bits).
+    * Inputs outside `in` are held at 0. */
+  def of[M <: chisel3.RawModule](gen: => M, cacheDir: Path = defaultCache, noInline: Seq[String] = Seq.empty)(
+      in: M => chisel3.Data, out: M => chisel3.Data): VerilatorPipe = {
+    var dut: Option[M] = None
+    val sv = Emit.systemVerilog { val m = gen; dut = Some(m); m }
+    val all = fromVerilog(sv, cacheDir, noInline)
+    val m = dut.get
+    val named = chisel3.reflect.DataMirror.fullModulePorts(m)
+    def names(d: chisel3.Data): Set[String] = {
+      val ls = leaves(d)
+      val found = named.collect { case (n, p) if ls.exists(_ eq p) => n }
+      require(found.length == ls.length, s"${all.top}: ${ls.length - found.length} leaves of the chosen field are not ports")
+      found.toSet
+    }
+    val pipe = all.select(names(in(m)), names(out(m)))
+    require(pipe.inputs.nonEmpty && pipe.outputs.nonEmpty, s"${all.top}: the chosen fields have no inputs or no outputs")
+    pipe
+  }
+
+  /** The ground-typed elements of `d` (`d` itself when it has no fields). */
+  private def leaves(d: chisel3.Data): Seq[chisel3.Data] = d match {
+    case r: chisel3.Record => r.elements.values.toSeq.flatMap(leaves)
+    case v: chisel3.Vec[_] => v.flatMap(leaves)
+    case e => Seq(e)
   }
 
   private def words(width: Int): Int = (width + 31) / 32

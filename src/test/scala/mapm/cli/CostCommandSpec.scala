@@ -1,5 +1,6 @@
 package mapm.cli
 
+import mapm.Slow
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}
 import mapm.MapmError
@@ -11,6 +12,7 @@ import org.scalatest.funsuite.AnyFunSuite
   * e3m3 TSA and an e5m4 SOA driven by seeded random operations; areas against this test's own sum
   * of Liberty cell areas over the netlist; the gate-level check catching a broken netlist; bad
   * input. The fp32 units run in the benchmark command `tools/mapm cost --unit soa|tsa` (docs/cost.md). */
+@Slow
 class CostCommandSpec extends AnyFunSuite {
   private def tools(): CostTools.Paths3 = CostTools.available.fold(
     why => cancel(s"cost tools (yosys, OpenSTA, OSU 0.18 um cells) unavailable: $why"), identity)

@@ -1,5 +1,6 @@
 package mapm.cli
 
+import mapm.Slow
 import java.nio.file.{Files, Path, Paths}
 
 import mapm.model.TestScenes
@@ -8,6 +9,7 @@ import org.scalatest.funsuite.AnyFunSuite
 /** End to end: `render` of a tiny Cornell-box frame through the emitted whole-MAPM RTL in
   * Verilator at 1/1/1 and 2/1/2: every SO checked against the model bit for bit (in the harness),
   * the frame bit-equal to the model frame, the TS-op count equal to the model's. */
+@Slow
 class RtlRenderSpec extends AnyFunSuite {
   private def haveVerilator: Boolean =
     sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))

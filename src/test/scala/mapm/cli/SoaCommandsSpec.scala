@@ -1,5 +1,6 @@
 package mapm.cli
 
+import mapm.Slow
 import java.nio.file.Files
 import mapm.MapmError
 import mapm.testutil.SharedFiles
@@ -7,6 +8,7 @@ import org.scalatest.funsuite.AnyFunSuite
 
 /** The SOA commands: emit-soa writes the chain's Verilog, soa-vectors checks a vector file
   * (model and hardware) and reports mismatches through its exit code, bad input is one error. */
+@Slow
 class SoaCommandsSpec extends AnyFunSuite with SharedFiles {
   private def run(cmd: Command, args: String*): (Int, String) = {
     val out = new java.io.ByteArrayOutputStream()

@@ -1,5 +1,6 @@
 package mapm.cli
 
+import mapm.Slow
 import java.nio.file.{Files, Paths}
 
 import mapm.MapmError
@@ -7,6 +8,7 @@ import org.scalatest.funsuite.AnyFunSuite
 
 /** The sweep's configuration list, its bar charts, and a two-configuration sweep of a tiny frame
   * through the RTL (the builds RtlRenderSpec also uses). */
+@Slow
 class SweepSpec extends AnyFunSuite {
   test("sweep 1/1/1,2/1/2 of a tiny frame through the RTL: CSV rows, speed-up, charts") {
     assume(sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator"))),

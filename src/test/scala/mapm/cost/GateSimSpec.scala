@@ -1,5 +1,6 @@
 package mapm.cost
 
+import mapm.Slow
 import java.nio.file.Files
 import mapm.MapmError
 import org.scalatest.funsuite.AnyFunSuite
@@ -8,6 +9,7 @@ import scala.util.Random
 /** The gate-level simulator: yosys-synthesized designs against Scala arithmetic, random netlists
   * of every OSU cell against a plain reference simulation, exact toggle counts, refusals.
   */
+@Slow
 class GateSimSpec extends AnyFunSuite {
   private def lib: Liberty.Library = YosysSynth.library
 

@@ -1,11 +1,13 @@
 package mapm.cost
 
+import mapm.Slow
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
 import org.scalatest.funsuite.AnyFunSuite
 
 /** OpenSTA through [[Sta]] on hand-written OSU 0.18 um netlists, against bounds read from the
   * Liberty file by this test's own code (a few regular expressions, not [[Liberty]]). */
+@Slow
 class StaSpec extends AnyFunSuite {
   import StaSpec.CellData
   private def tools(): CostTools.Paths3 = CostTools.available.fold(

@@ -1,27 +1,22 @@
 package mapm.fpu
 
+import mapm.Slow
 import mapm.fpu.FpuTesting._
 import mapm.model.{FloatFormat, SoftFloat}
-import mapm.sim.VerilatorPipe
+import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 
 /** FAdd against SoftFloat (itself checked against exact rationals), bit for bit, streaming with
   * random idle cycles. */
-class FAddSpec extends AnyFunSuite {
+@Slow
+class FAddSpec extends AnyFunSuite with Sim {
 
   /** Runs `count` operations (a, b, sub) through FAdd(f, cuts) and checks every result. */
-  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long, Boolean), seed: Long): StreamCheck.Report = {
-    val pipe = VerilatorPipe.build(new FAdd(f, cuts))
-    val res = pipe.out("io_out_bits")
-    StreamCheck.run(pipe, cuts.count(identity), count, Seq("io_in_bits_a", "io_in_bits_b", "io_in_bits_sub"),
-      i => { val (a, b, s) = op(i); Array(port(a), port(b), if (s) 1 else 0) },
-      (i, out) => {
-        val (a, b, s) = op(i)
-        val want = if (s) SoftFloat.sub(f, a, b) else SoftFloat.add(f, a, b)
-        val got = out(res).toLong
-        if (got == want) null else s"${f.hex(a)} ${if (s) "-" else "+"} ${f.hex(b)} = ${f.hex(got)}, model ${f.hex(want)}"
-      }, gap = 0.2, seed)
-  }
+  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long, Boolean), seed: Long): StreamCheck.Report =
+    StreamCheck.run(pipe(new FAdd(f, cuts))(_.io.in, _.io.out), cuts.count(identity), count,
+      i => { val (a, b, s) = op(i); Seq(port(a), port(b), if (s) 1 else 0) },
+      i => { val (a, b, s) = op(i); Seq(port(if (s) SoftFloat.sub(f, a, b) else SoftFloat.add(f, a, b))) },
+      i => { val (a, b, s) = op(i); s"${f.hex(a)} ${if (s) "-" else "+"} ${f.hex(b)}" }, gap = 0.2, seed)
 
   private def exhaustive(f: FloatFormat, i: Int): (Long, Long, Boolean) = {
     val (a, b) = exhaustivePair(f, i >> 1)

@@ -1,25 +1,22 @@
 package mapm.fpu
 
+import mapm.Slow
 import mapm.fpu.FpuTesting._
 import mapm.model.{FloatFormat, SoftFloat}
-import mapm.sim.VerilatorPipe
+import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 
 /** FCmpLt against SoftFloat.lt (itself checked against exact rationals), streaming with random
   * idle cycles. */
-class FCmpLtSpec extends AnyFunSuite {
+@Slow
+class FCmpLtSpec extends AnyFunSuite with Sim {
 
-  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report = {
-    val pipe = VerilatorPipe.build(new FCmpLt(f, cuts))
-    val res = pipe.out("io_out_bits")
-    StreamCheck.run(pipe, cuts.count(identity), count, Seq("io_in_bits_a", "io_in_bits_b"),
-      i => { val (a, b) = op(i); Array(port(a), port(b)) },
-      (i, out) => {
-        val (a, b) = op(i)
-        val want = SoftFloat.lt(f, a, b)
-        if ((out(res) == 1) == want) null else s"${f.hex(a)} < ${f.hex(b)} gave ${out(res)}, model $want"
-      }, gap = 0.2, seed)
-  }
+  /** `count` comparisons a < b, (a, b) = op(i), through FCmpLt(f, cuts) against SoftFloat.lt. */
+  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report =
+    StreamCheck.run(pipe(new FCmpLt(f, cuts))(_.io.in, _.io.out), cuts.count(identity), count,
+      i => { val (a, b) = op(i); Seq(port(a), port(b)) },
+      i => { val (a, b) = op(i); Seq(if (SoftFloat.lt(f, a, b)) 1 else 0) },
+      i => { val (a, b) = op(i); s"${f.hex(a)} < ${f.hex(b)}" }, gap = 0.2, seed)
 
   test("exhaustive e4m3 and e2m5: every operand pair") {
     for (f <- Seq(FloatFormat(4, 3), FloatFormat(2, 5)))

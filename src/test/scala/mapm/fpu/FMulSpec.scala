@@ -1,26 +1,22 @@
 package mapm.fpu
 
+import mapm.Slow
 import mapm.fpu.FpuTesting._
 import mapm.model.{FloatFormat, SoftFloat}
-import mapm.sim.VerilatorPipe
+import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 
 /** FMul against SoftFloat (itself checked against exact rationals), bit for bit, streaming with
   * random idle cycles. */
-class FMulSpec extends AnyFunSuite {
+@Slow
+class FMulSpec extends AnyFunSuite with Sim {
 
-  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report = {
-    val pipe = VerilatorPipe.build(new FMul(f, cuts))
-    val res = pipe.out("io_out_bits")
-    StreamCheck.run(pipe, cuts.count(identity), count, Seq("io_in_bits_a", "io_in_bits_b"),
-      i => { val (a, b) = op(i); Array(port(a), port(b)) },
-      (i, out) => {
-        val (a, b) = op(i)
-        val want = SoftFloat.mul(f, a, b)
-        val got = out(res).toLong
-        if (got == want) null else s"${f.hex(a)} * ${f.hex(b)} = ${f.hex(got)}, model ${f.hex(want)}"
-      }, gap = 0.2, seed)
-  }
+  /** `count` products a * b, (a, b) = op(i), through FMul(f, cuts) against SoftFloat.mul. */
+  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report =
+    StreamCheck.run(pipe(new FMul(f, cuts))(_.io.in, _.io.out), cuts.count(identity), count,
+      i => { val (a, b) = op(i); Seq(port(a), port(b)) },
+      i => { val (a, b) = op(i); Seq(port(SoftFloat.mul(f, a, b))) },
+      i => { val (a, b) = op(i); s"${f.hex(a)} * ${f.hex(b)}" }, gap = 0.2, seed)
 
   test("exhaustive e2m1, e3m2, e4m3: every operand pair") {
     for (f <- Seq(FloatFormat(2, 1), FloatFormat(3, 2), FloatFormat(4, 3))) {

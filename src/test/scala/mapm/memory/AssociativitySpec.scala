@@ -1,5 +1,6 @@
 package mapm.memory
 
+import mapm.Slow
 import mapm.model.{Box, NodeWord, PhotonTree, SearchTree, TreeSearcher, Vec3}
 import mapm.params.{CacheParams, CachesParams, MemoryParams}
 import org.scalatest.funsuite.AnyFunSuite
@@ -7,6 +8,7 @@ import scala.util.Random
 
 /** Why Table 4.2's fully associative L2s are built 16-way set-associative with a hashed set index
   * (docs/memory-port.md), on the reference models (no hardware involved). */
+@Slow
 class AssociativitySpec extends AnyFunSuite {
   private val t42 = CachesParams()
   private def built(g: CacheParams) = CacheConfig(g, 32, 4, MemoryParams().addressBits).hw

@@ -1,5 +1,6 @@
 package mapm.memory
 
+import mapm.Slow
 import chisel3._
 import chisel3.util._
 import chiseltest._
@@ -42,6 +43,7 @@ class CacheChain(val l1: CacheConfig, val n: Int, l2Geometry: CacheParams) exten
 /** L1 + L2 chains against the behavioural DRAM: every read correct, and the counts of both levels
   * equal their reference models (the L1's over its client stream, the L2's over the requests it
   * took, which must be the L1s' misses with each L1's order kept). */
+@Slow
 class CacheChainSpec extends AnyFunSuite with Sim {
   private val memSize = 1 << 14
   private val l1 = CacheConfig(CacheParams(512, 32, 2), 8, 3, 16, downBytes = 32, mshrs = 2, targets = 4)

@@ -1,5 +1,6 @@
 package mapm.memory
 
+import mapm.Slow
 import chisel3._
 import chiseltest._
 import mapm.testutil.Sim
@@ -71,6 +72,7 @@ final class BurstClient(port: MemPort, mem: MemImage, count: Int, reqValid: Doub
 /** [[MemArbiter]]: responses route back to the right port and id through a reordering DRAM, the
   * in-flight limit holds and is reached, and the grant is round-robin: a waiting port never sees
   * more than n-1 grants to the others before its own. */
+@Slow
 class MemArbiterSpec extends AnyFunSuite with Sim {
   private val up = MemPortParams(addressBits = 16, dataBytes = 8, idBits = 2, maxBeats = 4)
 

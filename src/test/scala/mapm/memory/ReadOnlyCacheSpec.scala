@@ -1,5 +1,6 @@
 package mapm.memory
 
+import mapm.Slow
 import chisel3._
 import chiseltest._
 import mapm.testutil.Sim
@@ -12,6 +13,7 @@ import scala.util.Random
   * none lost or duplicated; hit and miss counts, fetched bytes and the order of line fetches must
   * equal those of the independent reference model [[RefCache]]. Many seeds per simulation (reset
   * between seeds). */
+@Slow
 class ReadOnlyCacheSpec extends AnyFunSuite with Sim {
   private val memSize = 1 << 16
 

@@ -1,9 +1,11 @@
 package mapm.model
 
+import mapm.Slow
 import mapm.MapmError
 import org.scalatest.funsuite.AnyFunSuite
 
 /** CondModel against the exact-rational reference of the same rounded operation sequence. */
+@Slow
 class CondModelSpec extends AnyFunSuite {
 
   private def cond(f: FloatFormat, in: Array[Long]): Boolean =

@@ -1,10 +1,12 @@
 package mapm.model
 
+import mapm.Slow
 import org.scalatest.funsuite.AnyFunSuite
 
 /** The online multiplier and divider of the model alone, against exact integer arithmetic:
   * exhaustively at n = 8 (|exact − result| < 2^-N) and, at n = 24, the residual invariants
   * of online-arithmetic.md checked exactly at every iteration. */
+@Slow
 class OnlineArithSpec extends AnyFunSuite {
 
   /** Every 8-digit signed-digit string (3^8 of them). */

@@ -1,11 +1,13 @@
 package mapm.model
 
+import mapm.Slow
 import mapm.testutil.{ExactShade, ShaderCases}
 import org.scalatest.funsuite.AnyFunSuite
 import ShaderChainModel.Flags
 
 /** The shader-chain model against exact rational arithmetic (maximum error per shader-chain.md
   * §7), the worked check value of §4 and the special-case rules of §2. */
+@Slow
 class ShaderChainModelSpec extends AnyFunSuite {
   import ShaderChainModelSpec._
 

@@ -1,9 +1,11 @@
 package mapm.model
 
+import mapm.Slow
 import org.scalatest.funsuite.AnyFunSuite
 
 /** SoftFloat against the exact-rational reference [[ExactFloat]] (exhaustive at tiny formats,
   * seeded random at full width) and against the JVM's own float and double arithmetic. */
+@Slow
 class SoftFloatSpec extends AnyFunSuite {
 
   private type Op = (FloatFormat, Long, Long) => Long

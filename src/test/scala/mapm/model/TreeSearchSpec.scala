@@ -1,7 +1,9 @@
 package mapm.model
 
+import mapm.Slow
 import org.scalatest.funsuite.AnyFunSuite
 
+@Slow
 class TreeSearchSpec extends AnyFunSuite {
   private def bd(d: Double) = new java.math.BigDecimal(d)
 

@@ -1,8 +1,10 @@
 package mapm.model
 
+import mapm.Slow
 import mapm.testutil.SharedFiles
 import org.scalatest.funsuite.AnyFunSuite
 
+@Slow
 class TriKdTreeSpec extends AnyFunSuite with SharedFiles {
 
   /** Nearest hit over all triangles: (t, triangle), (+Inf, -1) on a miss. */

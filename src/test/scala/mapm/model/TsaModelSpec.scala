@@ -1,11 +1,13 @@
 package mapm.model
 
+import mapm.Slow
 import mapm.testutil.TsaReference
 import org.scalatest.funsuite.AnyFunSuite
 
 /** The TSA model against exact arithmetic (no hardware): exhaustive on small formats, a million
   * seeded hard-case triples at fp32, the dissertation's worked searches, and the bound on the
   * errors of the dissertation's truncating alignment that the guard and sticky bits remove. */
+@Slow
 class TsaModelSpec extends AnyFunSuite {
   import TsaModel._
 

@@ -1,31 +1,30 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.fpu.{FAdd, FCmpLt, FMul, LintCheck, StreamCheck}
 import mapm.fpu.FpuTesting.port
 import mapm.model.{CondGen, CondModel, CondTables, FloatFormat}
-import mapm.sim.VerilatorPipe
+import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 
 /** CondCheck against CondModel (itself checked against exact rationals), streaming with random
   * idle cycles: every result exactly `latency` cycles after its input, with its tag, in order. */
-class CondCheckSpec extends AnyFunSuite {
-  private val names = Seq("qx", "qy", "qz", "px", "py", "pz", "h").map("io_in_bits_" + _)
-
+@Slow
+class CondCheckSpec extends AnyFunSuite with Sim {
+  /** `count` checks, input(i) = (qx, qy, qz, px, py, pz, h) tagged i, against CondModel: the
+    * result must carry cond and the tag (fields cond, tag). */
   private def stream(f: FloatFormat, tagWidth: Int, count: Int, input: Int => Array[Long], seed: Long,
                      addCuts: Seq[Boolean] = FAdd.defaultCuts, mulCuts: Seq[Boolean] = FMul.defaultCuts,
                      cmpCuts: Seq[Boolean] = FCmpLt.defaultCuts): StreamCheck.Report = {
-    val pipe = VerilatorPipe.build(new CondCheck(f, tagWidth, addCuts, mulCuts, cmpCuts))
-    val (cond, tag) = (pipe.out("io_out_bits_cond"), pipe.out("io_out_bits_tag"))
     val tagMask = (1 << tagWidth) - 1
-    StreamCheck.run(pipe, CondCheck.latency(addCuts, mulCuts, cmpCuts), count, names :+ "io_in_bits_tag",
-      i => input(i).map(port) :+ BigInt(i & tagMask),
-      (i, out) => {
+    StreamCheck.run(pipe(new CondCheck(f, tagWidth, addCuts, mulCuts, cmpCuts))(_.io.in, _.io.out),
+      CondCheck.latency(addCuts, mulCuts, cmpCuts), count,
+      i => input(i).toSeq.map(port) :+ BigInt(i & tagMask),
+      i => {
         val in = input(i)
-        val want = CondModel.cond(f, in(0), in(1), in(2), in(3), in(4), in(5), in(6))
-        if (out(tag) != (i & tagMask)) s"tag ${out(tag)}, expected ${i & tagMask}"
-        else if ((out(cond) == 1) != want) s"cond(${in.map(f.hex).mkString(", ")}) = ${out(cond)}, model $want"
-        else null
-      }, gap = 0.25, seed)
+        Seq(if (CondModel.cond(f, in(0), in(1), in(2), in(3), in(4), in(5), in(6))) 1 else 0, i & tagMask)
+      },
+      i => s"cond(${input(i).map(f.hex).mkString(", ")}), tag ${i & tagMask}", gap = 0.25, seed)
   }
 
   /** Case i of the e2m1 sweep: combination i * stride of the 16^7 input combinations. */
@@ -52,7 +51,8 @@ class CondCheckSpec extends AnyFunSuite {
     * cycles). */
   private def exhaustive(f: FloatFormat, hSign: Int, laneBits: Int, gap: Double, seed: Long): (Long, Long, Long) = {
     val t = new CondTables(f)
-    val pipe = VerilatorPipe.build(new CondCheckBench(f, laneBits), noInline = Seq("CondCheck_"))
+    // rows (valid, hi), outputs (cond, allValid, anyValid)
+    val pipe = this.pipe(new CondCheckBench(f, laneBits), noInline = Seq("CondCheck_"))(_.io, _.io)
     val latency = CondCheck.latency()
     val lanes = 1 << laneBits
     val lines = 1 << (7 * f.width - laneBits - 1) // h's sign is the top bit of the case index
@@ -67,8 +67,8 @@ class CondCheckSpec extends AnyFunSuite {
       for (_ <- 0 until latency + 2) b += -1
       b.result()
     }
-    val (vIn, hiIn) = (pipe.in("io_valid"), pipe.in("io_hi"))
-    val (condOut, allV, anyV) = (pipe.out("io_cond"), pipe.out("io_allValid"), pipe.out("io_anyValid"))
+    val (vIn, hiIn) = (0, 1)
+    val (condOut, allV, anyV) = (0, 1, 2)
     val garbage = new scala.util.Random(seed + 1) // used by the writer thread only
     val hiBits = 7 * f.width - laneBits
     val rows = schedule.iterator.map { l =>

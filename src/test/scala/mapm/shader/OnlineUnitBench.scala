@@ -3,12 +3,12 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.model.DigitString
-import mapm.sim.VerilatorPipe
+import mapm.testutil.Sim
 
 /** A test wrapper around `lanes` copies each of an [[OnlineMul]] (signed-digit operand of
   * `mulXLen` digits) and an [[OnlineDiv]] (dividend of `divXLen` digits), both at n and N =
   * `digits`, that takes whole operands and returns whole digit strings, so that a test streams
-  * one operation per unit, lane and cycle through [[mapm.sim.VerilatorPipe]] without skewing
+  * one operation per unit, lane and cycle through a Verilator pipe without skewing
   * anything itself.
   *
   * Port `io_<u>_in_<l>` (u = mul or div) carries lane l's operation, LSB first: the binary
@@ -56,11 +56,13 @@ class OnlineUnitBench(val n: Int, val digits: Int, val mulXLen: Int, val divXLen
   }
 }
 
-/** Streams operations through an [[OnlineUnitBench]] in Verilator (built once per design and
-  * cached), one unit at a time. */
-final class OnlineUnitSim(n: Int, digits: Int, mulXLen: Int, divXLen: Int, lanes: Int = 4) {
-  private val pipe = VerilatorPipe.build(new OnlineUnitBench(n, digits, mulXLen, divXLen, lanes))
-  private val zero = BigInt(0)
+/** Streams operations through an [[OnlineUnitBench]] in Verilator (pipes of `sim`, built once per
+  * design and cached), one unit at a time. */
+final class OnlineUnitSim(sim: Sim, n: Int, digits: Int, mulXLen: Int, divXLen: Int, lanes: Int = 4) {
+  private def bench = new OnlineUnitBench(n, digits, mulXLen, divXLen, lanes)
+  // rows and outputs: one value per lane
+  private lazy val mulPipe = sim.pipe(bench)(_.io.mul.in, _.io.mul.out)
+  private lazy val divPipe = sim.pipe(bench)(_.io.div.in, _.io.div.out)
 
   /** Runs operations 0 until `count` through the multiplier (`mul`) or the divider: `xPos(i)`
     * and `xNeg(i)` are the signed-digit operand's bit masks (digit i at bit xLen − i; a position
@@ -68,20 +70,16 @@ final class OnlineUnitSim(n: Int, digits: Int, mulXLen: Int, divXLen: Int, lanes
     * result)` for every operation, in order, with its N digits as a [[DigitString]]; a result
     * digit (1,1), which no unit may emit, fails. Returns the cycles run. */
   def run(mul: Boolean, count: Int, xPos: Int => Long, xNeg: Int => Long, b: Int => Long)(sink: (Int, DigitString) => Unit): Long = {
-    val (u, xLen, latency) = if (mul) ("mul", mulXLen, digits + 3) else ("div", divXLen, digits + 4)
-    val inIdx = (0 until lanes).map(l => pipe.in(s"io_${u}_in_$l"))
-    val outIdx = (0 until lanes).map(l => pipe.out(s"io_${u}_out_$l"))
+    val (u, xLen, latency, pipe) = if (mul) ("mul", mulXLen, digits + 3, mulPipe) else ("div", divXLen, digits + 4, divPipe)
     val opCycles = (count + lanes - 1) / lanes
     val xMask = (1L << xLen) - 1
     val bMask = (1L << n) - 1
     val rows = Iterator.range(0, opCycles + latency).map { c =>
-      val row = Array.fill(pipe.inputs.length)(zero)
-      for (l <- 0 until lanes) {
+      Array.tabulate(lanes) { l =>
         val i = c * lanes + l
-        if (c < opCycles && i < count)
-          row(inIdx(l)) = BigInt(b(i) & bMask) | (BigInt(xPos(i) & xMask) << n) | (BigInt(xNeg(i) & xMask) << (n + xLen))
+        if (c < opCycles && i < count) BigInt(b(i) & bMask) | (BigInt(xPos(i) & xMask) << n) | (BigInt(xNeg(i) & xMask) << (n + xLen))
+        else BigInt(0)
       }
-      row
     }
     val mask = (1L << digits) - 1
     var c = -latency
@@ -90,7 +88,7 @@ final class OnlineUnitSim(n: Int, digits: Int, mulXLen: Int, divXLen: Int, lanes
       if (c >= 0 && c < opCycles) for (l <- 0 until lanes) {
         val i = c * lanes + l
         if (i < count) {
-          val v = out(outIdx(l))
+          val v = out(l)
           val (p, m) = ((v & mask).toLong, ((v >> digits) & mask).toLong)
           assert((p & m) == 0, s"$u operation $i: the unit emitted a digit (1,1): pos ${p.toBinaryString}, neg ${m.toBinaryString}")
           sink(i, DigitString(p, m, digits))

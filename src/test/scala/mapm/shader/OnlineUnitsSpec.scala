@@ -1,6 +1,8 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.model.{DigitString, OnlineArith}
+import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 import scala.collection.mutable.ArrayBuffer
 
@@ -14,14 +16,15 @@ import scala.collection.mutable.ArrayBuffer
   * 2,519,424); and every encoding of the operand digits, (1,1) included, which the units must
   * read as 0 (4^8 multiplier and 4^9 divider encodings). At n = 24: random and sparse-digit
   * operands against the model. */
-class OnlineUnitsSpec extends AnyFunSuite {
+@Slow
+class OnlineUnitsSpec extends AnyFunSuite with Sim {
   private val n = 8
 
   private val sims = scala.collection.mutable.Map.empty[(Int, Int), OnlineUnitSim]
   /** The bench at n = 8 (multiplier x of 8 digits, dividend of 9, 4 lanes) or n = 24 (x of N
     * digits, dividend of N + 1, 1 lane), built once per N. */
   private def sim(n: Int, nd: Int): OnlineUnitSim =
-    sims.getOrElseUpdate((n, nd), if (n == 8) new OnlineUnitSim(n, nd, n, n + 1, 4) else new OnlineUnitSim(n, nd, nd, nd + 1, 1))
+    sims.getOrElseUpdate((n, nd), if (n == 8) new OnlineUnitSim(this, n, nd, n, n + 1, 4) else new OnlineUnitSim(this, n, nd, nd, nd + 1, 1))
 
   /** Every signed-digit string of `len` digits, as (pos, neg) masks in two arrays: string k has
     * digit i = (k / 3^(i−1)) mod 3 − 1 (digit 1 least significant in k). */

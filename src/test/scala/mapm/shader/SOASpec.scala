@@ -1,15 +1,18 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.fpu.LintCheck
 import mapm.model.{CondGen, CondModel, FloatFormat, ShaderChainModel}
 import mapm.testutil.ShaderCases
 import org.scalatest.funsuite.AnyFunSuite
-import SoaSim.{Op, Out}
+import mapm.sim.SoaRunner
+import mapm.sim.SoaRunner.{Op, Out}
 
 /** The SOA top (colour chain and cond check side by side) in Verilator against the bit-accurate
   * models ShaderChainModel (colour, flags) and CondModel (cond): seeded random operations back to
   * back in one simulation, then with random valid gaps; every result exactly `latency` cycles
   * after its operation, with its tag, in order, none lost; and Verilator lint. */
+@Slow
 class SOASpec extends AnyFunSuite {
   test("latency and name: the colour chain is the longer path; fp32 42 (g = 0) and 45 (g = 3), fp16 32 (g = 3)") {
     for ((f, g, want) <- Seq((FloatFormat.fp32, 0, 42), (FloatFormat.fp32, 3, 45), (FloatFormat.fp16, 3, 32))) {
@@ -37,7 +40,7 @@ class SOASpec extends AnyFunSuite {
   }
 
   private def streamCheck(f: FloatFormat, g: Int, count: Int, gapped: Int, seed: Long): Unit = {
-    val sim = new SoaSim(f, g)
+    val sim = SoaRunner(f, g)
     val chain = new ShaderChainModel(f, g)
     val ops = operations(f, count + gapped, seed)
     val rnd = new scala.util.Random(seed)

@@ -1,16 +1,19 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.model.{FloatFormat, ShaderChainModel, ShaderVectorFiles, ShaderVectors}
 import mapm.testutil.{ShaderCases, SharedFiles}
 import org.scalatest.funsuite.AnyFunSuite
-import ShaderChainSim.{Op, Out}
+import mapm.sim.{PipeRunner, ShaderChainRunner}
+import mapm.sim.ShaderChainRunner.{Op, Out}
 
 /** The emitted ShaderChain in Verilator against the vector files (result and flags of every
   * row) and against the bit-accurate model on seeded random operations streamed back to back
   * in one simulation, then with random valid gaps (latency, order, no loss). */
+@Slow
 class ShaderChainHwSpec extends AnyFunSuite with SharedFiles {
-  private val sims = scala.collection.mutable.Map.empty[(FloatFormat, Int), ShaderChainSim]
-  private def sim(f: FloatFormat, g: Int): ShaderChainSim = sims.getOrElseUpdate((f, g), new ShaderChainSim(f, g))
+  private val sims = scala.collection.mutable.Map.empty[(FloatFormat, Int), PipeRunner[Op, Out]]
+  private def sim(f: FloatFormat, g: Int): PipeRunner[Op, Out] = sims.getOrElseUpdate((f, g), ShaderChainRunner(f, g))
 
   for (v <- ShaderVectorFiles.all) test(s"${v.file}: the hardware reproduces the result and flags of every row") {
     val rows = ShaderVectors.read(requireShared(s"vectors/${v.file}"), v.format)
@@ -61,7 +64,7 @@ class ShaderChainHwSpec extends AnyFunSuite with SharedFiles {
       }
     }
 
-  private def collect(s: ShaderChainSim, cycles: Iterator[Option[Op]]): IndexedSeq[Out] = {
+  private def collect(s: PipeRunner[Op, Out], cycles: Iterator[Option[Op]]): IndexedSeq[Out] = {
     val b = IndexedSeq.newBuilder[Out]
     s.run(cycles)(b += _)
     b.result()

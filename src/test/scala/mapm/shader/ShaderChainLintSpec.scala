@@ -1,5 +1,6 @@
 package mapm.shader
 
+import mapm.Slow
 import java.nio.file.Files
 import mapm.model.FloatFormat
 import mapm.sim.Emit
@@ -8,6 +9,7 @@ import scala.sys.process._
 
 /** Verilator's lint (`--lint-only -Wall`) on the emitted SystemVerilog of the shader chain.
   * One waiver: DECLFILENAME, because CIRCT writes every module of the design into one file. */
+@Slow
 class ShaderChainLintSpec extends AnyFunSuite {
   private val configs = Seq(FloatFormat.fp32 -> 0, FloatFormat.fp32 -> 2, FloatFormat.fp32 -> 3, FloatFormat.fp16 -> 0,
     FloatFormat.fp16 -> 2, FloatFormat.fp16 -> 3, FloatFormat.bf16 -> 3, FloatFormat.fp64 -> 3, FloatFormat(5, 4) -> 0)

@@ -1,17 +1,20 @@
 package mapm.shader
 
+import mapm.Slow
 import mapm.model.{FloatFormat, ShaderChainModel}
 import org.scalatest.funsuite.AnyFunSuite
-import ShaderChainSim.Op
+import mapm.sim.ShaderChainRunner
+import mapm.sim.ShaderChainRunner.Op
 
 /** Exhaustive at n = 5: every combination of the five significands (16^5 = 1,048,576 channel
   * evaluations, three per operation) through the emitted hardware, equal to the bit-accurate
   * model (which ShaderChainModelSpec checks against exact arithmetic on the same set). */
+@Slow
 class ShaderChainSmallSpec extends AnyFunSuite {
   private val f = FloatFormat(5, 4)
 
   for (g <- Seq(0, 2, 3)) test(s"$f, g = $g: all 16^5 significand combinations in hardware equal the model") {
-    val sim = new ShaderChainSim(f, g)
+    val sim = ShaderChainRunner(f, g)
     val model = new ShaderChainModel(f, g)
     val one = f.bias.toLong << f.manWidth // every exponent at the bias: no special cases
     val pairs = (0 until 256).map(pc => (one | (pc >> 4), one | (pc & 15)))

@@ -40,6 +40,25 @@ class VerilatorPipeSpec extends AnyFunSuite {
     assert(outs(0)(pipe.out("io_out_valid")) == 0, "reset clears the valid bit")
   }
 
+  test("a typed pipe takes the leaves of the chosen fields in field order and holds other inputs at 0") {
+    val dir = java.nio.file.Files.createTempDirectory("pipe")
+    val bits = VerilatorPipe.of(new Dut, dir)(_.io.in.bits, _.io.out.bits)
+    assert(bits.inputs.map(_.name) == Seq("io_in_bits_a", "io_in_bits_b", "io_in_bits_w"))
+    assert(bits.outputs.map(_.name) == Seq("io_out_bits_sum", "io_out_bits_x", "io_out_bits_w"))
+    val valid = VerilatorPipe.of(new Dut, dir)(_.io.in, _.io.out.valid)
+    assert(valid.inputs.map(_.name) == Seq("io_in_valid", "io_in_bits_a", "io_in_bits_b", "io_in_bits_w"))
+    val rnd = new scala.util.Random(5)
+    val rows = IndexedSeq.fill(100)(Array(BigInt(7, rnd), BigInt(64, rnd), BigInt(100, rnd)))
+    val outs = bits.runAll(rows)
+    for (t <- 2 until rows.length) assert(outs(t)(0) == rows(t - 2)(0) + 1 && outs(t)(1) == (~rows(t - 2)(1) & ((BigInt(1) << 64) - 1)))
+    assert(valid.runAll(Seq.fill(5)(Array(BigInt(1), BigInt(0), BigInt(0), BigInt(0)))).map(_.toSeq) ==
+      Seq(0, 0, 1, 1, 1).map(v => Seq(BigInt(v))), "valid follows its input two cycles later")
+    val unbound = VerilatorPipe.of(new Dut, dir)(_.io.in.bits, _.io.out).runAll(rows)
+    assert(unbound.forall(o => o.length == 4 && o(0) == 0), "in.valid, outside the chosen field, stays 0")
+    val outer = VerilatorPipe.of(new Outer, dir)(_.io, _.io)
+    assert(outer.inputs.map(_.name) == Seq("io_a_0", "io_a_1") && outer.outputs.map(_.name) == Seq("io_y_0", "io_y_1"))
+  }
+
   class Inner extends Module {
     override def desiredName = "PipeInner"
     val io = IO(new Bundle { val a = Input(UInt(8.W)); val y = Output(UInt(8.W)) })

@@ -1,5 +1,6 @@
 package mapm.top
 
+import mapm.Slow
 import mapm.params._
 import java.nio.file.{Files, Paths}
 
@@ -11,6 +12,7 @@ import scala.sys.process._
 /** The whole MAPM's emitted SystemVerilog passes `verilator --lint-only -Wall` without a single
   * warning (DECLFILENAME off: one file holds the top and every submodule), for power-of-two and
   * other lane counts, several formats and the smallest Register-queue bank. */
+@Slow
 class MapmLintSpec extends AnyFunSuite {
   private def haveVerilator: Boolean =
     sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))

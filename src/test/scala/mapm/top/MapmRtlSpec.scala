@@ -1,5 +1,6 @@
 package mapm.top
 
+import mapm.Slow
 import mapm.params._
 import java.nio.file.{Files, Path, Paths}
 
@@ -17,6 +18,7 @@ import org.scalatest.funsuite.AnyFunSuite
   * run that stops making progress.
   *
   * Needs Verilator (cancels without it). Each configuration is verilated once and cached. */
+@Slow
 class MapmRtlSpec extends AnyFunSuite {
   private def haveVerilator: Boolean =
     sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))

@@ -1,5 +1,6 @@
 package mapm.top
 
+import mapm.Slow
 import mapm.params._
 import java.nio.file.{Files, Paths}
 
@@ -21,6 +22,7 @@ import scala.util.Random
   * (query, photon, colour bits, flags, cond) must equal the model's ([[ExpectedSo]]: the tree
   * search, [[mapm.model.ShaderChainModel]] and [[mapm.model.CondModel]]), and the counters its
   * counts. A run that makes no progress for 5,000 cycles fails instead of hanging. */
+@Slow
 class MapmSystemSpec extends AnyFunSuite with Sim {
   import MapmSystemSpec.Case
   private val dir = Paths.get("target/mapm-system-test")

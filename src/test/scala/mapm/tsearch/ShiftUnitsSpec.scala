@@ -1,11 +1,13 @@
 package mapm.tsearch
 
+import mapm.Slow
 import chisel3._
 import chiseltest._
 import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 
 /** The alignment units, exhaustively against plain integer references. */
+@Slow
 class ShiftUnitsSpec extends AnyFunSuite with Sim {
   /** chiseltest drives Modules; these wrappers expose the combinational RawModules. */
   class SalHarness(e: Int) extends Module {

@@ -1,5 +1,6 @@
 package mapm.tsearch
 
+import mapm.Slow
 import mapm.model.{FloatFormat, TsaModel}
 import mapm.model.TsaModel.Outcome
 import mapm.testutil.{Sim, TsaReference}
@@ -7,6 +8,7 @@ import org.scalatest.funsuite.AnyFunSuite
 import TsaDriver.Op
 
 /** The TSA hardware against exact arithmetic and the bit-accurate model. */
+@Slow
 class TSASpec extends AnyFunSuite with Sim {
 
   /** Exact outcome of a valid triple; an invalid one flags error and sets both bits. */
