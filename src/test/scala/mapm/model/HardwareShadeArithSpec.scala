@@ -1,11 +1,13 @@
 package mapm.model
 
+import mapm.Slow
 import mapm.testutil.ShaderCases
 import org.scalatest.funsuite.AnyFunSuite
 
 /** ShadeArith.hardware against the models it must equal bit for bit (ShaderChainModel for colour
   * and flags, CondModel for cond), its cond shortcut bounds against exact arithmetic, and the
   * render and shader-op list built on it. */
+@Slow
 class HardwareShadeArithSpec extends AnyFunSuite {
   private val configs = Seq(FloatFormat.fp32 -> 3, FloatFormat.fp32 -> 0, FloatFormat.fp16 -> 3)
 

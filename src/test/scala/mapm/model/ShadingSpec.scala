@@ -1,5 +1,6 @@
 package mapm.model
 
+import mapm.Slow
 import mapm.MapmError
 import org.scalatest.funsuite.AnyFunSuite
 
@@ -77,6 +78,7 @@ object ExactRounding {
   }
 }
 
+@Slow
 class ShadingSpec extends AnyFunSuite {
   import ExactRounding._
 

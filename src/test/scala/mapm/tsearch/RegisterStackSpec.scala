@@ -1,5 +1,6 @@
 package mapm.tsearch
 
+import mapm.Slow
 import chisel3._
 import chiseltest._
 import mapm.testutil.Sim
@@ -9,6 +10,7 @@ import scala.util.Random
 /** [[RegisterStack]] against a Scala stack: random pushes (none, one on either port, or both) and
   * pops every cycle, the top, count and peak compared each cycle, and the overflow flag when
   * pushes go beyond the depth. */
+@Slow
 class RegisterStackSpec extends AnyFunSuite with Sim {
   private val width = 12
 
