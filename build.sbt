@@ -16,7 +16,9 @@ lazy val root = (project in file("."))
       "org.scalatest"     %% "scalatest"  % "3.2.19" % Test,
       "com.lihaoyi"       %% "mainargs"   % "0.7.6",
       "com.lihaoyi"       %% "ujson"      % "3.1.0", // the version chisel itself depends on
-      "de.javagl"          % "obj"        % "0.4.0"
+      "de.javagl"          % "obj"        % "0.4.0",
+      "me.tongfei"         % "progressbar" % "0.10.1", // newest 0.10.x, checked to resolve from Maven Central
+      "org.knowm.xchart"   % "xchart"      % "3.8.8"   // checked to resolve from Maven Central
     ),
     addCompilerPlugin("org.chipsalliance" % "chisel-plugin" % chiselVersion cross CrossVersion.full),
     scalacOptions ++= Seq(

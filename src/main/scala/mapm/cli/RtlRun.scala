@@ -13,29 +13,34 @@ import mapm.params.MapmParams
   * harness (cached) -> run -> comparison with the model. */
 object RtlRun {
   /** A frame ready for the hardware: its files in `work` and the model's results. */
-  final case class Prepared(name: String, config: SceneConfig, frame: Frame, g: Int, image: Path, expected: Path,
+  final case class Prepared(name: String, config: SceneConfig, frame: Frame, image: Path, expected: Path,
                             model: ExpectedSo.Result, work: Path, times: StageTimes)
+
+  /** The configurations to run and the frame they run on, in one number format. */
+  final case class Setup(params: Seq[MapmParams], prep: Prepared)
 
   /** One configuration's run: the harness outcome, whether the frame equals the model's bit for
     * bit (and the first differing value), and seconds per stage. */
   final case class ConfigRun(p: MapmParams, outcome: Harness.Outcome, frameEqual: Boolean, frameDiff: Option[String],
                              tsOpsEqual: Option[Boolean], times: Seq[(String, Double)]) {
     def passed: Boolean = outcome.passed && frameEqual && !tsOpsEqual.contains(false)
-    def stat(key: String): Option[Double] = outcome.stats.flatMap(_.obj.get(key)).flatMap(_.numOpt)
     /** Why it failed, in one line. */
     def failure: String =
       if (!outcome.passed) outcome.verdict
       else if (!frameEqual) s"the RTL frame differs from the model frame: ${frameDiff.getOrElse("")}"
-      else s"TS-op count ${stat("tsOps").map(_.toLong).getOrElse(0L)} differs from the model's"
+      else s"TS-op count ${outcome.stats.flatMap(_.tsOps).getOrElse(0L)} differs from the model's"
   }
 
   private def secs(t0: Long): Double = (System.nanoTime() - t0) / 1e9
 
-  /** Runs the model side once for `scene` in `format` with `g` guard digits; files go to `outDir/<scene>-rtl/`. */
-  def prepare(scene: String, format: Option[FloatFormat], g: Int, outDir: String, threads: Int): Prepared = {
+  /** Loads `scene`, resolves its number format once (`format`, else the scene's, else fp32), makes
+    * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits, then runs the model
+    * side once; files go to `outDir/<scene>-rtl/`. */
+  def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int): Setup = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
+    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g) }
     val frame = Frame.prepare(config, fmt, threads)
     val name = ModelRun.sceneName(Paths.get(scene))
     val work = Paths.get(outDir).resolve(s"$name-rtl")
@@ -46,14 +51,17 @@ object RtlRun {
     val t1 = System.nanoTime()
     val expected = work.resolve("expected.bin")
     val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"))
-    Prepared(name, config, frame, g, image, expected, model, work,
-      frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)))
+    Setup(params, Prepared(name, config, frame, image, expected, model, work,
+      frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1))))
   }
 
-  /** Emits, builds and runs configuration `p` on a prepared frame; the harness writes into `dir`. */
+  /** The frame of [[setup]] alone, for callers that make their own configurations in its format. */
+  def prepare(scene: String, format: Option[FloatFormat], g: Int, outDir: String, threads: Int): Prepared =
+    setup(scene, format, g, Seq.empty, outDir, threads).prep
+
+  /** Emits, builds and runs configuration `p` (in the frame's format, as [[setup]] makes it) on a
+    * prepared frame; the harness writes into `dir`. */
   def runConfig(prep: Prepared, p: MapmParams, opts: Harness.RunOptions, dir: Path, log: String => Unit): ConfigRun = {
-    MapmError.check(p.numbers.format == prep.frame.format && p.numbers.guardDigits == prep.g,
-      s"configuration ${p.name} does not match the prepared frame (${prep.frame.format}, g = ${prep.g})")
     val t0 = System.nanoTime()
     val (sv, top) = MapmRtl.emit(p, log)
     val t1 = System.nanoTime()
@@ -69,7 +77,7 @@ object RtlRun {
         model.indices.find(i => java.lang.Double.doubleToRawLongBits(f(i)) != java.lang.Double.doubleToRawLongBits(model(i)))
           .map(i => s"first at pixel ${i / 3} channel ${i % 3}: RTL ${f(i)}, model ${model(i)}")
     }
-    val tsOps = outcome.stats.flatMap(_.obj.get("tsOps")).flatMap(_.numOpt).map(_.toLong == prep.model.tsOps)
+    val tsOps = outcome.stats.flatMap(_.tsOps).map(_ == prep.model.tsOps)
     ConfigRun(p, outcome, diff.isEmpty, diff, tsOps, times)
   }
 

@@ -1,49 +1,53 @@
 package mapm.model
 
-/** A progress bar on stderr for stages that take more than a second.
+import me.tongfei.progressbar.{ConsoleProgressBarConsumer, ProgressBar, ProgressBarBuilder, ProgressBarConsumer, ProgressBarStyle}
+
+/** A progress bar on stderr for stages that take more than a second, drawn by the progressbar
+  * library (me.tongfei:progressbar) as one plain ASCII line redrawn in place.
   *
-  * Nothing is drawn for the first second, nor when stderr is not a terminal unless
-  * MAPM_PROGRESS=1; MAPM_PROGRESS=0 turns it off. Thread-safe: workers call [[advance]].
+  * It draws only when stderr is a terminal, or when MAPM_PROGRESS=1; MAPM_PROGRESS=0 turns it
+  * off. When off, no bar (and no refresh thread) exists. Nothing is drawn in the first second, so
+  * a short stage leaves no line. Thread-safe: workers call [[advance]].
   */
-final class Progress(label: String, total0: Long) {
-  @volatile private var total = total0
-  private val start = System.nanoTime()
-  private val done = new java.util.concurrent.atomic.AtomicLong(0)
-  @volatile private var lastDraw = 0L
-  @volatile private var drawn = false
-  private val enabled: Boolean = sys.env.get("MAPM_PROGRESS") match {
+final class Progress(label: String, total: Long) {
+  private val bar: Option[ProgressBar] =
+    if (!Progress.enabled) None
+    else Some(new ProgressBarBuilder().setTaskName(label).setInitialMax(total).setStyle(ProgressBarStyle.ASCII)
+      .setUpdateIntervalMillis(Progress.RefreshMillis).setConsumer(new Progress.AfterOneSecond).build())
+
+  /** Counts `n` more steps done. */
+  def advance(n: Long = 1): Unit = bar.foreach(_.stepBy(n))
+
+  /** Raises the total by `n` steps, for a stage whose size shows as it goes. */
+  def extend(n: Long): Unit = bar.foreach(b => b.synchronized(b.maxHint(b.getMax + n)))
+
+  /** Ends the bar (a final full line if one was drawn). */
+  def finish(): Unit = bar.foreach(_.close())
+}
+
+object Progress {
+  private val RefreshMillis = 200
+  /** Characters of a drawn line: the library then needs no terminal query for the width. */
+  private val LineWidth = 100
+
+  private def enabled: Boolean = sys.env.get("MAPM_PROGRESS") match {
     case Some("0") => false
     case Some("1") => true
     case _         => System.console() != null
   }
 
-  def advance(n: Long = 1): Unit = {
-    val d = done.addAndGet(n)
-    if (enabled) {
-      val now = System.nanoTime()
-      if (now - start > 1000000000L && now - lastDraw > 200000000L) synchronized {
-        if (now - lastDraw > 200000000L) { lastDraw = now; draw(d, now) }
-      }
-    }
+  /** The library's plain console consumer (`\r` and the line on stderr), silent until a second
+    * has passed; the closing newline only follows a drawn line. */
+  private final class AfterOneSecond extends ProgressBarConsumer {
+    private val console = new ConsoleProgressBarConsumer(System.err, LineWidth)
+    private val start = System.nanoTime()
+    @volatile private var drawn = false
+    def getMaxRenderedLength: Int = console.getMaxRenderedLength
+    def accept(line: String): Unit =
+      if (drawn || System.nanoTime() - start > 1000000000L) { drawn = true; console.accept(line) }
+    def close(): Unit = if (drawn) console.close()
   }
 
-  private def draw(d: Long, now: Long): Unit = {
-    val frac = if (total <= 0) 1.0 else math.min(1.0, d.toDouble / total)
-    val width = 30
-    val bar = "#" * (frac * width).toInt + "." * (width - (frac * width).toInt)
-    val secs = (now - start) / 1e9
-    System.err.print(f"\r$label [$bar] ${frac * 100}%5.1f%% ($d/$total) $secs%.1fs ")
-    drawn = true
-  }
-
-  /** Raises the total by `n` steps, for a stage whose size shows as it goes. */
-  def extend(n: Long): Unit = synchronized { total += n }
-
-  /** Ends the bar (a final full line if one was drawn). */
-  def finish(): Unit = if (drawn) synchronized { draw(done.get, System.nanoTime()); System.err.println() }
-}
-
-object Progress {
   /** Runs `body` with a bar over `total` steps and finishes it. */
   def apply[T](label: String, total: Long)(body: Progress => T): T = {
     val p = new Progress(label, total)

@@ -64,28 +64,12 @@ object Render {
     }
     val sums = new Array[Double](3 * nq)
     val order = spatialOrder(queries, map.tree.box)
-    val next = new java.util.concurrent.atomic.AtomicInteger(0)
-    val chunk = 256
-    val bar = progress.map(new Progress(_, nq.toLong))
     val photons = new Photons(map)
-    val workers = Array.fill(threads)(new Worker(map, photons, queries, arith, sums, new TreeSearcher(map.search)))
-    val ts = workers.map { w =>
-      new Thread(() => {
-        var start = next.getAndAdd(chunk)
-        while (start < nq) {
-          val end = math.min(nq, start + chunk)
-          w.runRange(order, start, end)
-          bar.foreach(_.advance((end - start).toLong))
-          start = next.getAndAdd(chunk)
-        }
-      })
+    val workers = Progress.maybe(progress, nq.toLong) { bar =>
+      Parallel.forChunks(nq, threads, chunk = 256, bar)(new Worker(map, photons, queries, arith, sums, new TreeSearcher(map.search))) {
+        (w, from, until) => w.runRange(order, from, until)
+      }
     }
-    val failure = new java.util.concurrent.atomic.AtomicReference[Throwable](null)
-    ts.foreach(_.setUncaughtExceptionHandler((_, e) => failure.compareAndSet(null, e)))
-    ts.foreach(_.start())
-    ts.foreach(_.join())
-    bar.foreach(_.finish())
-    if (failure.get != null) throw failure.get
     val rgb = new Array[Double](3 * pixelCount)
     i = 0
     while (i < nq) {
@@ -136,13 +120,20 @@ object Render {
     }
   }
 
-  /** One thread's searcher, counters and shading loop; writes the per-query sums.
-    *
-    * cond: with (lo, hi) from [[ShadeArith.condClearBounds]], a shader operation whose squared
-    * distance, computed in plain doubles from the exact values, is clearly below lo passes and one
-    * clearly above hi fails; only the others call [[ShadeArith.cond]]. The double value is within a
+  /** cond of one shader operation. With (lo, hi) from [[ShadeArith.condClearBounds]], one whose
+    * squared distance `e2`, computed in plain doubles from the exact values, is clearly below lo
+    * passes and one clearly above hi fails; only the others call [[ShadeArith.cond]] on the
+    * query's (q) and photon's (p) coordinates as format bits. The double value is within a
     * relative 1e-15 (plus underflow, below 1e-300) of the exact one, far inside the 1e-12 margin.
     */
+  private def cond(arith: ShadeArith, e2: Double, lo: Double, hi: Double, qx: Long, qy: Long, qz: Long,
+                   px: Long, py: Long, pz: Long, h: Long): Boolean = {
+    val clearIn = e2 * (1 + 1e-12) + 1e-300 < lo
+    // `|`, not `||`: whether the SO passes must not steer a branch (it would mispredict)
+    if (clearIn | e2 * (1 - 1e-12) > hi) clearIn else arith.cond(qx, qy, qz, px, py, pz, h)
+  }
+
+  /** One thread's searcher, counters and shading loop; writes the per-query sums. */
   private final class Worker(map: PhotonMap, photons: Photons, queries: QuerySet, arith: ShadeArith,
                              sums: Array[Double], searcher: TreeSearcher) {
     var tsOps = 0L
@@ -184,12 +175,7 @@ object Render {
           val i = so(k)
           val o = 3 * i
           val ex = x - pos(o); val ey = y - pos(o + 1); val ez = z - pos(o + 2)
-          val e2 = ex * ex + ey * ey + ez * ez
-          val clearIn = e2 * (1 + 1e-12) + 1e-300 < lo
-          // `|`, not `||`: whether the SO passes must not steer a branch (it would mispredict)
-          val ok =
-            if (clearIn | e2 * (1 - 1e-12) > hi) clearIn
-            else arith.cond(qxs(q), qys(q), qzs(q), posBits(o), posBits(o + 1), posBits(o + 2), h)
+          val ok = cond(arith, ex * ex + ey * ey + ez * ez, lo, hi, qxs(q), qys(q), qzs(q), posBits(o), posBits(o + 1), posBits(o + 2), h)
           passed(m) = i
           m += (if (ok) 1 else 0)
           k += 1
@@ -232,21 +218,9 @@ object Render {
     val nq = queries.size
     val block = 64
     val parts = new Array[OpBlock]((nq + block - 1) / block)
-    val next = new java.util.concurrent.atomic.AtomicInteger(0)
-    val failure = new java.util.concurrent.atomic.AtomicReference[Throwable](null)
-    val ts = Array.fill(threads)(new Thread(() => {
-      val searcher = new TreeSearcher(map.search)
-      val codec = new FormatBits(map.format)
-      var b = next.getAndIncrement()
-      while (b < parts.length && failure.get == null) {
-        parts(b) = new OpBlock(map, queries, arith, searcher, codec, b * block, math.min(nq, (b + 1) * block))
-        b = next.getAndIncrement()
-      }
-    }))
-    ts.foreach(_.setUncaughtExceptionHandler((_, e) => failure.compareAndSet(null, e)))
-    ts.foreach(_.start())
-    ts.foreach(_.join())
-    if (failure.get != null) throw failure.get
+    Parallel.forChunks(parts.length, threads, chunk = 1)((new TreeSearcher(map.search), new FormatBits(map.format))) {
+      case ((searcher, codec), b, _) => parts(b) = new OpBlock(map, queries, arith, searcher, codec, b * block, math.min(nq, (b + 1) * block))
+    }
     val total = parts.map(_.size.toLong).sum
     MapmError.check(total <= Int.MaxValue, s"shader ops: $total operations do not fit in one list")
     val n = total.toInt
@@ -271,8 +245,8 @@ object Render {
       SearchStats(nq.toLong, tsOps, n.toLong, cond.count(identity).toLong, map.size, map.tree.levels))
   }
 
-  /** The shader operations of queries from until until, in traversal order. cond is decided as
-    * in [[Worker]]: plain doubles settle the clear cases, [[ShadeArith.cond]] the others. */
+  /** The shader operations of queries from until until, in traversal order; cond as [[cond]]
+    * decides it. */
   private final class OpBlock(map: PhotonMap, queries: QuerySet, arith: ShadeArith, searcher: TreeSearcher,
                               codec: FormatBits, from: Int, until: Int) {
     var size = 0
@@ -311,11 +285,8 @@ object Render {
           else arith.shade(map.kernel(i), map.brdf(i), h, map.power(0)(i), map.power(1)(i), map.power(2)(i), cr, cg, cb, out)
           for (c <- 0 until 3) { color(c)(size) = out(c); flags(c)(size) = fl(c).toByte }
           val ex = x - codec.toDouble(map.px(i)); val ey = y - codec.toDouble(map.py(i)); val ez = z - codec.toDouble(map.pz(i))
-          val e2 = ex * ex + ey * ey + ez * ez
-          val clearIn = e2 * (1 + 1e-12) + 1e-300 < lo
-          cond(size) =
-            if (clearIn || e2 * (1 - 1e-12) > hi) clearIn
-            else arith.cond(queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), h)
+          cond(size) = Render.cond(arith, ex * ex + ey * ey + ez * ez, lo, hi, queries.qx(q), queries.qy(q), queries.qz(q),
+            map.px(i), map.py(i), map.pz(i), h)
           size += 1
         }
       }

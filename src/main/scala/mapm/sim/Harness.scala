@@ -106,8 +106,8 @@ object Harness {
       wave.toSeq.flatMap(w => Seq("--wave", w.toString, "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString))
   }
 
-  /** The verdict line, the stats JSON (None if the harness wrote none) and the frame (raw doubles). */
-  final case class Outcome(passed: Boolean, verdict: String, stats: Option[ujson.Value], frame: Option[Array[Double]])
+  /** The verdict line, the stats (None if the harness wrote none) and the frame (raw doubles). */
+  final case class Outcome(passed: Boolean, verdict: String, stats: Option[HarnessStats], frame: Option[Array[Double]])
 
   /** Runs `exe` on `image` and `expected`, writing into `outDir`; `progressLabel` shows a bar of
     * queries done from the harness's progress lines. */
@@ -131,7 +131,7 @@ object Harness {
     bar.foreach(_.finish())
     val verdict = stdout.toString.linesIterator.filter(l => l.startsWith("PASS") || l.startsWith("FAIL")).toSeq.lastOption.getOrElse(
       s"FAIL: harness exited with $rc without a verdict${if (errors.nonEmpty) ": " + errors.toString.trim.linesIterator.take(5).mkString(" | ") else ""}")
-    val stats = Some(outDir.resolve("stats.json")).filter(Files.isRegularFile(_)).map(p => ujson.read(Files.readAllBytes(p)))
+    val stats = Some(outDir.resolve("stats.json")).filter(Files.isRegularFile(_)).map(HarnessStats.read)
     val frame = Some(outDir.resolve("frame.f64")).filter(Files.isRegularFile(_)).map { p =>
       val b = java.nio.ByteBuffer.wrap(Files.readAllBytes(p)).order(java.nio.ByteOrder.LITTLE_ENDIAN)
       Array.fill(b.remaining / 8)(b.getDouble)

@@ -29,8 +29,8 @@ class RtlRenderSpec extends AnyFunSuite {
   for ((t, s, a, seed) <- Seq((1, 1, 1, 1L), (2, 1, 2, 7L))) test(s"render through the RTL at $t/$s/$a") {
     assume(haveVerilator, "verilator is not on PATH: the RTL render test needs it")
     val out = Paths.get(s"target/rtl-render-test/out-$t-$s-$a")
-    assert(RenderCommand.render(scene = scene.toString, tsm = t, som = s, soa = a, seed = seed, maxCycles = 2000000,
-      out = out.toString, threads = 2) == 0)
+    assert(RenderCommand.render(tsm = t, som = s, soa = a,
+      opts = RtlOptions(scene = scene.toString, seed = seed, maxCycles = 2000000, out = out.toString, threads = 2)) == 0)
     val stats = ujson.read(Files.readAllBytes(out.resolve("rtl-render-test-tiny-rtl-stats.json")))
     assert(stats("result").str == "PASS")
     assert(stats("frameEqualsModel").bool)
@@ -46,12 +46,12 @@ class RtlRenderSpec extends AnyFunSuite {
     val wave = out.resolve("tiny.fst")
     Files.createDirectories(out)
     Files.deleteIfExists(wave)
-    assert(RenderCommand.render(scene = scene.toString, tsm = 1, som = 1, soa = 1, seed = 1, wave = Some(wave.toString),
-      waveStart = 100, waveEnd = 400, out = out.toString, threads = 2) == 0)
+    assert(RenderCommand.render(tsm = 1, som = 1, soa = 1, wave = Some(wave.toString), waveStart = 100, waveEnd = 400,
+      opts = RtlOptions(scene = scene.toString, seed = 1, out = out.toString, threads = 2)) == 0)
     val bytes = Files.readAllBytes(wave)
     assert(bytes.length > 1000, "an FST with the window's signal changes")
-    val e = intercept[mapm.MapmError](RenderCommand.render(scene = scene.toString, tsm = 1, som = 1, soa = 1, seed = 5, maxCycles = 500,
-      out = out.toString, threads = 2))
+    val e = intercept[mapm.MapmError](RenderCommand.render(tsm = 1, som = 1, soa = 1,
+      opts = RtlOptions(scene = scene.toString, seed = 5, maxCycles = 500, out = out.toString, threads = 2)))
     assert(e.getMessage.contains("FAIL seed=5: watchdog: --max-cycles 500 reached"), e.getMessage)
   }
 }

@@ -1,0 +1,42 @@
+package mapm.cli
+
+import java.nio.file.Path
+
+import mainargs.{ParserForClass, arg, main}
+import mapm.model.{FloatFormat, Parallel}
+import mapm.sim.Harness
+import Args.FloatFormatReader
+
+/** The options `render` and `sweep` share ([[RtlRun]]): the scene and its number format, the
+  * harness's memory model and limits ([[Harness.RunOptions]]), the output folder and the model's
+  * threads. Each command takes it as one parameter; mainargs lists its flags with the command's own. */
+@main
+final case class RtlOptions(
+    @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
+    @arg(doc = "number format: fp32, bf16, fp16, fp24 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
+    @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
+    @arg(doc = "memory latency in cycles") latency: Int = 100,
+    @arg(doc = "draw each request's latency from [latency, this] (0: fixed latency)") latencyMax: Int = 0,
+    @arg(doc = "probability of a gap in the query stream each cycle") queryGap: Double = 0,
+    @arg(doc = "probability that the memory refuses a request each cycle") reqStall: Double = 0,
+    @arg(doc = "probability that the memory holds back a ready response beat") respGap: Double = 0,
+    @arg(doc = "memory bandwidth in bytes per cycle") bandwidth: Double = 14.0,
+    @arg(doc = "clock for the GB/s figure, in GHz") clockGhz: Double = 1.5,
+    @arg(doc = "seed of the memory's response reordering") seed: Long = 1,
+    @arg(doc = "threads of the Verilator model (a separate build; 1 is fastest on this design, see docs/harness.md)") simThreads: Int = 1,
+    @arg(doc = "stop a run with FAIL after this many cycles (0: no limit)") maxCycles: Long = 0,
+    @arg(doc = "output folder") out: String = "out",
+    @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads) {
+
+  /** The harness's options for each run, with an FST waveform of cycles [waveStart, waveEnd] when `wave` is given. */
+  def harness(wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue): Harness.RunOptions =
+    Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave, waveStart, waveEnd, latencyMax, queryGap, reqStall,
+      respGap, simThreads)
+
+  /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
+  def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads)
+}
+
+object RtlOptions {
+  implicit val parser: ParserForClass[RtlOptions] = ParserForClass[RtlOptions]
+}
