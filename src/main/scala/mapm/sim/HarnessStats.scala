@@ -3,7 +3,6 @@ package mapm.sim
 import java.nio.file.{Files, Path}
 
 import scala.collection.immutable.{ListMap, SeqMap}
-import scala.language.implicitConversions
 
 import mapm.MapmError
 
@@ -127,8 +126,4 @@ object HarnessStats {
       l("memoryRequests"), l("bytesFetched"), d("bytesPerCycle"), d("gbPerSecond"), wholes("counters", at(top, "counters")),
       d("wallSeconds"), d("simulatedCyclesPerSecond"), json)
   }
-
-  /** The stats as the JSON they were read from, for readers that still look keys up by name
-    * (the harness and whole-MAPM specs in mapm.sim and mapm.top). */
-  implicit def asJson(s: HarnessStats): ujson.Value = s.json
 }

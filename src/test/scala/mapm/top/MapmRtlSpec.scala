@@ -1,12 +1,12 @@
 package mapm.top
 
-import mapm.Slow
-import mapm.params._
 import java.nio.file.{Files, Path, Paths}
 
+import mapm.Slow
 import mapm.cli.RtlRun
 import mapm.model.{FloatFormat, TestScenes}
-import mapm.sim.Harness
+import mapm.params._
+import mapm.sim.{Harness, HarnessStats}
 import org.scalatest.funsuite.AnyFunSuite
 
 /** The whole MAPM's emitted SystemVerilog (the CIRCT output `emit` writes) in the Verilator
@@ -43,15 +43,15 @@ class MapmRtlSpec extends AnyFunSuite {
     maxCycles = 5000000)
 
   /** Runs `p` on the prepared frame under `opts` with seeds `seeds`; returns the stats of each run. */
-  private def check(prep: RtlRun.Prepared, p: MapmParams, opts: Harness.RunOptions, seeds: Seq[Long]): Seq[ujson.Value] =
+  private def check(prep: RtlRun.Prepared, p: MapmParams, opts: Harness.RunOptions, seeds: Seq[Long]): Seq[HarnessStats] =
     seeds.map { seed =>
       val run = RtlRun.runConfig(prep, p, opts.copy(seed = seed), dir.resolve(s"${prep.name}-${p.name}-$seed"), _ => ())
       assert(run.passed, s"${p.counts.label} ${p.numbers.format} seed $seed: ${run.failure}")
       val s = run.outcome.stats.get
-      assert(s("soIssued").num == prep.model.count.toDouble && s("soPassingCond").num == prep.model.passing.toDouble)
-      assert(s("tsOps").num == prep.model.tsOps.toDouble)
-      assert(s("counters")("soIssued").num == prep.model.count.toDouble, "the SO counter counts every SO into an SOA")
-      assert(s("counters")("rqPeak").num <= p.queues.registerQueueDepth)
+      assert(s.soIssued == prep.model.count && s.soPassingCond == prep.model.passing)
+      assert(s.tsOps.contains(prep.model.tsOps))
+      assert(s.counters("soIssued") == prep.model.count, "the SO counter counts every SO into an SOA")
+      assert(s.counters("rqPeak") <= p.queues.registerQueueDepth)
       s
     }
 
@@ -85,12 +85,12 @@ class MapmRtlSpec extends AnyFunSuite {
     // The smallest bank the parameters allow: 26 entries, of which K = 10 are the depth reserve.
     val minimal = MapmParams.of(1, 1, 1, FloatFormat.fp32, 3, registerQueueDepth = Some(26))
     val stats = check(prep, minimal, stress, Seq(13L)) ++ check(prep, MapmParams.of(2, 1, 2, FloatFormat.fp32, 3), stress, Seq(14L))
-    val peaks = stats.map(_("counters")("rqPeak").num)
+    val peaks = stats.map(_.counters("rqPeak"))
     assert(peaks.head <= 26 && peaks.head >= 16, s"the minimal bank filled up to ${peaks.head} of 26")
-    assert(stats.head("counters")("stallRqFull").num > 0, "the Register-queue rule held work back")
+    assert(stats.head.counters("stallRqFull") > 0, "the Register-queue rule held work back")
     // Three SOs per TS op from two TSMs against two SOAs: every reservation station fills and the
     // TS block stalls on them.
-    assert(stats(1)("counters")("stallRsFull").num > 0)
+    assert(stats(1).counters("stallRsFull") > 0)
     info(s"Register-queue peaks ${peaks.mkString(", ")} (banks of 26 and ${MapmParams.of(2, 1, 2, FloatFormat.fp32, 3).queues.registerQueueDepth}); ${prep.model.tsOps} TS ops, ${prep.model.count} SOs")
   }
 
@@ -100,7 +100,7 @@ class MapmRtlSpec extends AnyFunSuite {
     val empty = RtlRun.prepare(scene("empty", 4, 3, 2, 0, "30").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
     assert(empty.model.count == 0 && empty.model.tsOps == 0)
     val s0 = check(empty, p, stress, Seq(15L)).head
-    assert(s0("queries").num == empty.frame.querySet.size)
+    assert(s0.queries == empty.frame.querySet.size)
     val one = RtlRun.prepare(scene("one-photon", 4, 3, 2, 1, "10000").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
     assert(one.model.count == one.frame.querySet.size && one.model.tsOps == one.frame.querySet.size)
     check(one, p, stress, Seq(16L))
