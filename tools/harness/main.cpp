@@ -4,7 +4,7 @@
 // frame and a stats JSON. Ends with one line: `PASS seed=N` or `FAIL seed=N: reason`.
 //
 // Nothing here depends on the configuration: mapm_config.h (generated from the parameters by
-// mapm.top.Mapm.configHeader) names the Verilated top and gives its port accessors and counters,
+// mapm.sim.HarnessHeader) names the Verilated top and gives its port accessors and counters,
 // and mapm_formats.h (mapm.format.CHeader) the file records.
 #include <chrono>
 #include <cstdint>

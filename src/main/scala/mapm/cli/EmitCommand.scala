@@ -35,7 +35,7 @@ object EmitCommand extends Command {
     val file =
       try {
         val f = Emit.toFile(new Mapm(p), dir, s"$top.sv")
-        Files.write(dir.resolve("mapm_config.h"), Mapm.configHeader(p).getBytes(UTF_8))
+        Files.write(dir.resolve("mapm_config.h"), mapm.sim.HarnessHeader(p).getBytes(UTF_8))
         f
       } catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write into $out: ${e.getMessage}") }
     val secs = (System.nanoTime() - t0) / 1e9

@@ -63,7 +63,7 @@ import scala.language.dynamics
 
 /** The counters the host reads at the end of a run (docs/mapm.md): 64 bits each, one per name of
   * [[MapmCounters.Names]] in that order (ports `io_counters_<name>`). A counter reads as a member,
-  * `c.tsOps`; the harness header lists the same names ([[mapm.top.Mapm.configHeader]]). */
+  * `c.tsOps`; the harness header lists the same names ([[mapm.sim.HarnessHeader]]). */
 class MapmCounters extends Record with scala.Dynamic {
   import scala.collection.immutable.SeqMap
   // Chisel emits a Record's ports in the reverse of its element order.

@@ -41,7 +41,7 @@ object Harness {
   }
 
   /** Builds (or finds in the cache) the harness for the emitted design in `svDir` whose top module
-    * is `top`; `svDir` holds its `mapm_config.h` ([[mapm.top.Mapm.configHeader]], as
+    * is `top`; `svDir` holds its `mapm_config.h` ([[mapm.sim.HarnessHeader]], as
     * [[MapmRtl.emit]] and `mapm emit` write it). `trace` builds the FST-waveform variant,
     * `threads` > 1 a multithreaded model (Verilator `--threads`). Returns the executable. */
   def build(svDir: Path, top: String, trace: Boolean = false, log: String => Unit = _ => (), threads: Int = 1): Path = {

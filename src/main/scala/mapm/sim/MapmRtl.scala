@@ -10,7 +10,7 @@ import scala.jdk.CollectionConverters._
 /** The emitted SystemVerilog of a whole MAPM, cached per configuration under
   * `target/emit/<Mapm_name>-<hash>/`; the hash covers the parameters and the hardware sources
   * (everything under src/main/scala/mapm except the model, CLI and simulation code), so a
-  * changed generator re-emits. Beside the Verilog it writes `mapm_config.h` ([[Mapm.configHeader]]). */
+  * changed generator re-emits. Beside the Verilog it writes `mapm_config.h` ([[HarnessHeader]]). */
 object MapmRtl {
   def topName(p: MapmParams): String = s"Mapm_${p.name}"
 
@@ -31,7 +31,7 @@ object MapmRtl {
       log(s"emitting $top ...")
       val t0 = System.nanoTime()
       Emit.toFile(new Mapm(p), dir, s"$top.sv")
-      Files.write(dir.resolve("mapm_config.h"), Mapm.configHeader(p).getBytes(UTF_8))
+      Files.write(dir.resolve("mapm_config.h"), HarnessHeader(p).getBytes(UTF_8))
       Files.write(stamp, Array.emptyByteArray)
       log(f"emitted in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     }

@@ -5,7 +5,6 @@ import java.nio.file.{Files, Path, Paths}
 import mapm.format.{ExpectedSoFile, MemoryImage}
 import mapm.model.FloatFormat
 import mapm.params.MapmParams
-import mapm.top.Mapm
 import org.scalatest.funsuite.AnyFunSuite
 import java.math.{BigDecimal => JBig}
 
@@ -80,7 +79,7 @@ class HarnessSpec extends AnyFunSuite {
     Files.list(dir).forEach(p => Files.delete(p))
     val top = s"HarnessStub_${params.name}"
     Emit.toFile(new HarnessStub(params), dir, s"$top.sv")
-    Files.write(dir.resolve("mapm_config.h"), Mapm.configHeader(params, top).getBytes("UTF-8"))
+    Files.write(dir.resolve("mapm_config.h"), HarnessHeader(params, top).getBytes("UTF-8"))
     Harness.build(dir, top)
   }
 

@@ -1,9 +1,9 @@
 package mapm.top
 
-import mapm.Slow
-import mapm.params._
 import java.nio.file.{Files, Paths}
 
+import mapm.Slow
+import mapm.params._
 import mapm.model.FloatFormat
 import mapm.sim.{Emit, Verilator}
 import org.scalatest.funsuite.AnyFunSuite

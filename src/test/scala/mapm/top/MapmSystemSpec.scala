@@ -1,11 +1,11 @@
 package mapm.top
 
-import mapm.Slow
-import mapm.params._
 import java.nio.file.{Files, Paths}
 
 import chisel3._
 import chiseltest._
+import mapm.Slow
+import mapm.params._
 import mapm.format.{ExpectedSoFile, MemoryImage}
 import mapm.memory.{DramModel, DramTiming, MemImage}
 import mapm.model.{FloatFormat, Frame, SceneConfig, TestScenes}
