@@ -3,7 +3,7 @@ package mapm.shader
 import mapm.Slow
 import mapm.fpu.LintCheck
 import mapm.model.{CondGen, CondModel, FloatFormat, ShaderChainModel}
-import mapm.testutil.ShaderCases
+import mapm.testutil.{Bubbles, ShaderCases}
 import org.scalatest.funsuite.AnyFunSuite
 import mapm.sim.SoaRunner
 import mapm.sim.SoaRunner.{Op, Out}
@@ -43,17 +43,11 @@ class SOASpec extends AnyFunSuite {
     val sim = SoaRunner(f, g)
     val chain = new ShaderChainModel(f, g)
     val ops = operations(f, count + gapped, seed)
-    val rnd = new scala.util.Random(seed)
     // Back to back first, then a bubble before an operation with probability 0.4 (runs of them).
-    val inCycle = new Array[Long](ops.length)
-    var cycle = -1L; var issued = 0; var entered = 0
-    val stream = ops.iterator.flatMap { op =>
-      val bubbles = if (issued < count) 0 else Iterator.continually(rnd.nextDouble() < 0.4).takeWhile(identity).length
-      issued += 1
-      Iterator.fill(bubbles)(None) ++ Iterator.single(Some(op))
-    }.map { c => cycle += 1; if (c.isDefined) { inCycle(entered) = cycle; entered += 1 }; c }
+    val b = new Bubbles(ops, count, 0.4, seed)
+    val inCycle = b.inCycle
     val outs = IndexedSeq.newBuilder[Out]
-    sim.run(stream)(outs += _)
+    sim.run(b.stream)(outs += _)
     val res = outs.result()
     assert(res.length == ops.length, "every operation leaves exactly once")
     var passing = 0; var flagged = 0

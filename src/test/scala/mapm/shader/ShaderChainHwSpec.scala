@@ -2,7 +2,7 @@ package mapm.shader
 
 import mapm.Slow
 import mapm.model.{FloatFormat, ShaderChainModel, ShaderVectorFiles, ShaderVectors}
-import mapm.testutil.{ShaderCases, SharedFiles}
+import mapm.testutil.{Bubbles, ShaderCases, SharedFiles}
 import org.scalatest.funsuite.AnyFunSuite
 import mapm.sim.{PipeRunner, ShaderChainRunner}
 import mapm.sim.ShaderChainRunner.{Op, Out}
@@ -40,16 +40,10 @@ class ShaderChainHwSpec extends AnyFunSuite with SharedFiles {
       val cases = new ShaderCases(f, seed = 1000 + g)
       val gapped = count / 5
       val ops = IndexedSeq.tabulate(count + gapped)(k => Op(cases.operation(), k & 0xffff)) // 16-bit tags wrap
-      val rnd = new scala.util.Random(g)
-      // Back to back first, then each cycle valid with probability 0.6.
-      val inCycle = new Array[Long](ops.length)
-      var cycle = -1L; var issued = 0; var entered = 0
-      val stream = ops.iterator.flatMap { op =>
-        val bubbles = if (issued < count) 0 else Iterator.continually(rnd.nextDouble() < 0.4).takeWhile(identity).length
-        issued += 1
-        Iterator.fill(bubbles)(None) ++ Iterator.single(Some(op))
-      }.map { c => cycle += 1; if (c.isDefined) { inCycle(entered) = cycle; entered += 1 }; c }
-      val outs = collect(s, stream)
+      // Back to back first, then a bubble before an operation with probability 0.4 (runs of them).
+      val b = new Bubbles(ops, count, 0.4, g)
+      val inCycle = b.inCycle
+      val outs = collect(s, b.stream)
       assert(outs.length == ops.length, "every operation leaves exactly once")
       for ((o, k) <- outs.zipWithIndex) {
         assert(o.tag == (k & 0xffff), s"tags leave in order: result $k carries tag ${o.tag}")
