@@ -20,15 +20,15 @@ class FCmpLt(val fmt: FloatFormat, val cuts: Seq[Boolean] = FCmpLt.defaultCuts) 
     val out = Valid(Bool())
   })
 
-  /** Magnitude bits (exponent and fraction) with the zero patterns cleared, and the NaN test. */
-  private def magnitude(x: UInt): UInt = Mux(x(fmt.width - 2, fmt.manWidth) === 0.U, 0.U, x(fmt.width - 2, 0))
-  private def isNaN(x: UInt): Bool = x(fmt.width - 2, fmt.manWidth).andR && x(fmt.manWidth - 1, 0).orR
+  private val f = FloatFields(fmt)
+  /** Magnitude bits (exponent and fraction) with the zero patterns cleared. */
+  private def magnitude(x: UInt): UInt = Mux(f.isZero(x), 0.U, f.magnitude(x))
 
   val (a, b) = (io.in.bits.a, io.in.bits.b)
-  val (sa, sb) = (a(fmt.width - 1), b(fmt.width - 1))
+  val (sa, sb) = (f.sign(a), f.sign(b))
   val (ma, mb) = (magnitude(a), magnitude(b))
   val ordered = Mux(sa =/= sb, sa && (ma =/= 0.U || mb =/= 0.U), Mux(sa, ma > mb, ma < mb))
-  val lt = ordered && !isNaN(a) && !isNaN(b)
+  val lt = ordered && !f.isNaN(a) && !f.isNaN(b)
   io.out.valid := validAt(0, io.in.valid)
   io.out.bits := dataAt(0, io.in.valid, lt)
 }

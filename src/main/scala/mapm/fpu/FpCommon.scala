@@ -22,17 +22,43 @@ class FUnpacked(fmt: FloatFormat) extends Bundle {
   val isNaN = Bool()
 }
 
+/** The fields of a bit pattern of format `fmt`, read the one way every unit reads them (project
+  * conventions, docs/fpu.md): exponent field 0 is a zero whatever the fraction, all-ones exponent
+  * is infinity (fraction 0) or NaN. Combinational: slices and a few gates, no state. */
+final class FloatFields(fmt: FloatFormat) {
+  def sign(x: UInt): Bool = x(fmt.width - 1)
+  /** The biased exponent field. */
+  def exp(x: UInt): UInt = x(fmt.width - 2, fmt.manWidth)
+  /** The fraction field (the mantissa without the hidden bit). */
+  def frac(x: UInt): UInt = x(fmt.manWidth - 1, 0)
+  /** Exponent and fraction: the value's magnitude as an unsigned pattern. */
+  def magnitude(x: UInt): UInt = x(fmt.width - 2, 0)
+  /** The value is zero: exponent field 0. */
+  def isZero(x: UInt): Bool = exp(x) === 0.U
+  /** A zero whose fraction field is non-zero: a subnormal pattern, flushed to zero. */
+  def isFlushed(x: UInt): Bool = isZero(x) && frac(x).orR
+  /** Exponent field all ones. */
+  def isInfOrNaN(x: UInt): Bool = exp(x).andR
+  def isInf(x: UInt): Bool = isInfOrNaN(x) && frac(x) === 0.U
+  def isNaN(x: UInt): Bool = isInfOrNaN(x) && frac(x) =/= 0.U
+  /** The significand with its hidden bit, manWidth+1 bits; 0 for a zero. */
+  def sig(x: UInt): UInt = Mux(isZero(x), 0.U, Cat(1.U(1.W), frac(x)))
+}
+
+object FloatFields {
+  def apply(fmt: FloatFormat): FloatFields = new FloatFields(fmt)
+}
+
 private[fpu] object FUnpack {
   def apply(fmt: FloatFormat, bits: UInt): FUnpacked = {
+    val f = FloatFields(fmt)
     val u = Wire(new FUnpacked(fmt))
-    val e = bits(fmt.width - 2, fmt.manWidth)
-    val m = bits(fmt.manWidth - 1, 0)
-    u.sign := bits(fmt.width - 1)
-    u.isZero := e === 0.U
-    u.isInf := e.andR && m === 0.U
-    u.isNaN := e.andR && m =/= 0.U
-    u.exp := e
-    u.sig := Mux(u.isZero, 0.U, Cat(1.U(1.W), m))
+    u.sign := f.sign(bits)
+    u.isZero := f.isZero(bits)
+    u.isInf := f.isInf(bits)
+    u.isNaN := f.isNaN(bits)
+    u.exp := f.exp(bits)
+    u.sig := f.sig(bits)
     u
   }
 }

@@ -1,6 +1,6 @@
 package mapm.memory
 
-import chisel3.util.log2Ceil
+import chisel3.util.{isPow2, log2Ceil}
 import mapm.params.CacheParams
 
 /** Everything that sizes one [[ReadOnlyCache]]: its geometry (a Table 4.2 row), the client word,
@@ -42,7 +42,6 @@ final case class CacheConfig(
     hashSets: Boolean = false,
     interleave: Int = 1
 ) {
-  private def isPow2(x: Int) = x > 0 && (x & (x - 1)) == 0
   require(isPow2(maxWays), s"cache maxWays must be a power of two, got $maxWays")
   require(isPow2(interleave), s"cache bank interleave must be a power of two, got $interleave")
   /** The geometry actually built: `geometry` with its associativity capped at `maxWays`. */

@@ -23,8 +23,6 @@ final case class MemPortParams(addressBits: Int, dataBytes: Int, idBits: Int, ma
   def maxBytes: Int = dataBytes * maxBeats
   /** The same port with `extra` more id bits on top (what an arbiter of 2^extra ports emits). */
   def widenId(extra: Int): MemPortParams = copy(idBits = idBits + extra)
-
-  private def isPow2(x: Int) = x > 0 && (x & (x - 1)) == 0
 }
 
 /** A read request: `len + 1` beats of `dataBytes` each from the consecutive bytes starting at `addr`. */

@@ -99,33 +99,34 @@ final class SearchTree(words: Array[Int], splits: Array[Double]) {
   * split value like every node, and no children), so such a query yields an SO for the root photon
   * exactly when TC_L and TC_R hold, and one TS. An empty tree yields no operation at all.
   *
-  * Pending searches are served first in, first out (the order of the dissertation's examples and of
-  * the hardware's register queue). After [[search]], `visited(0 until tsCount)` holds the visited
-  * nodes in order, and `so(0 until soCount)` the nodes whose photons got an SO, in issue order
-  * (per node: left child, right child, current node).
+  * Pending searches are served first in, first out: breadth first, the order of the dissertation's
+  * examples. The hardware keeps them in last-in first-out stacks (one Register-queue bank per TSM,
+  * [[mapm.tsearch.RegisterStack]]) and searches depth first (docs/mapm.md, "Register queue rule"),
+  * so its order differs; its TS and SO counts and its multiset of SOs equal the model's. After
+  * [[search]], `visited(0 until tsCount)` holds the visited nodes in order, and
+  * `so(0 until soCount)` the nodes whose photons got an SO, in issue order (per node: left child,
+  * right child, current node).
   *
   * Every photon strictly closer than h to the query (on the exact values) gets an SO: along the
   * path to it each node's split value s lies between the query's coordinate interval and the
   * photon's coordinate, which makes the needed comparison true.
   */
 final class TreeSearcher(tree: SearchTree) {
-  /** Visited nodes in order; doubles as the FIFO queue of pending searches (every node is queued at
-    * most once per query). One slot more than the tree has nodes: the search writes each candidate
-    * child unconditionally and only advances the tail when it is really queued. */
+  /** Visited nodes in order; doubles as the first-in first-out queue of the pending searches (those
+    * from the head on). Every node is queued at most once per query, so a search fills at most
+    * `tree.size` of its slots. */
   val visited: Array[Int] = new Array[Int](tree.size + 1)
-  /** Nodes that got an SO, in issue order (at most one SO per node per query; one spare slot, as
-    * for `visited`). */
+  /** Nodes that got an SO, in issue order (at most one SO per node per query, so at most
+    * `tree.size` of its slots). */
   val so: Array[Int] = new Array[Int](tree.size + 1)
   var tsCount: Int = 0
   var soCount: Int = 0
   /** The query's coordinates by axis, so that a node's axis selects p by a load, not a branch. */
   private val coord = new Array[Double](3)
 
-  /** Searches the tree for the query at (qx, qy, qz) with radius h (all exact format values).
-    *
-    * Written for speed: whether a child is queued or yields an SO depends on the data and would
-    * mispredict as a branch, so every candidate is stored at the next free slot and the slot count
-    * advances by 0 or 1 (the same order and contents as the pseudo code). */
+  /** Searches the tree for the query at (qx, qy, qz) with radius h (all exact format values): the
+    * pseudo code's steps, a queued child appended at the queue's tail and an SO's node at the end
+    * of `so`. */
   def search(qx: Double, qy: Double, qz: Double, h: Double): Unit = {
     val node = tree.node; val visited = this.visited; val so = this.so
     val coord = this.coord

@@ -1,6 +1,14 @@
 package mapm.params
 
+import chisel3.util.isPow2
 import mapm.model.FloatFormat
+
+/** The colour channels of a photon's power, a query's contribution and a shader operation's
+  * colour: r, g, b, in this order everywhere. */
+object Rgb {
+  val Names: Seq[String] = Seq("r", "g", "b")
+  val Channels: Int = Names.size
+}
 
 /** Geometry of one read-only cache.
   *
@@ -23,8 +31,6 @@ final case class CacheParams(
   def sets: Int = lines / ways
   def fullyAssociative: Boolean = sets == 1
   def describe: String = s"${sizeBytes / 1024} KiB, $lineBytes B lines, ${if (fullyAssociative) "fully associative" else s"$ways-way"}"
-
-  private def isPow2(x: Int): Boolean = x > 0 && (x & (x - 1)) == 0
 }
 
 /** The five caches of Table 4.2. */
@@ -66,7 +72,7 @@ final case class QueueParams(
     queryFetches: Int = 64         // new queries whose SOQ record is being fetched at once (covers the memory latency)
 ) {
   require(registerQueueDepth >= 8 && registerQueueDepth <= 4096, s"Register queue depth must be 8..4096 per TSM, got $registerQueueDepth")
-  require(rsEntries >= 3, s"reservation-station entries must be at least 3 (one SO group), got $rsEntries")
+  require(rsEntries >= SoGroup.Size, s"reservation-station entries must be at least ${SoGroup.Size} (one SO group), got $rsEntries")
   require(fetchSlots >= 1 && fetchSlots <= 64, s"TSM fetch slots must be 1..64, got $fetchSlots")
   require(tsmQueries >= 1 && tsmQueries <= 256, s"queries per TSM must be 1..256, got $tsmQueries")
   require(queryFetches >= 1 && queryFetches <= 64, s"query fetches must be 1..64, got $queryFetches")
@@ -78,7 +84,7 @@ final case class MemoryParams(
     maxOutstanding: Int = 64, // requests in flight at once on the memory port (the outermost MemArbiter's limit)
     addressBits: Int = 32     // byte address width
 ) {
-  require(dataBytes >= 4 && (dataBytes & (dataBytes - 1)) == 0, s"memory data width must be a power of two of at least 4 bytes, got $dataBytes")
+  require(dataBytes >= 4 && isPow2(dataBytes), s"memory data width must be a power of two of at least 4 bytes, got $dataBytes")
   require(maxOutstanding >= 1, s"outstanding-request limit must be at least 1, got $maxOutstanding")
   require(addressBits >= 16 && addressBits <= 48, s"address width must be 16..48 bits, got $addressBits")
 }
@@ -105,8 +111,8 @@ final case class MapmParams(
   require(caches.sopL1.lineBytes <= caches.sopL2.lineBytes, "SOP L1 line must not be longer than the SOP L2 line")
   require(queues.registerQueueDepth >= indices.nodeBits + 4,
     s"Register queue depth ${queues.registerQueueDepth} must exceed the tree-depth reserve: at least ${indices.nodeBits + 4} for ${indices.nodeBits}-bit node indices")
-  require(queues.rsEntries % counts.soaPerSom == 0 && queues.rsEntries / counts.soaPerSom >= 3,
-    s"reservation-station entries ${queues.rsEntries} must split evenly into at least 3 per SOA (${counts.soaPerSom} SOAs per SOM)")
+  require(queues.rsEntries % counts.soaPerSom == 0 && queues.rsEntries / counts.soaPerSom >= SoGroup.Size,
+    s"reservation-station entries ${queues.rsEntries} must split evenly into at least ${SoGroup.Size} per SOA (${counts.soaPerSom} SOAs per SOM)")
 
   /** Reservation-station entries of one SOA's lane. */
   def rsPerSoa: Int = queues.rsEntries / counts.soaPerSom

@@ -31,7 +31,7 @@ class QueryData(p: MapmParams) extends Bundle {
   val x = UInt(p.numbers.format.width.W)
   val y = UInt(p.numbers.format.width.W)
   val z = UInt(p.numbers.format.width.W)
-  val contrib = Vec(3, UInt(p.numbers.format.width.W))
+  val contrib = Vec(Rgb.Channels, UInt(p.numbers.format.width.W))
   val q = UInt(p.indices.queryBits.W)
 }
 
@@ -46,14 +46,20 @@ class SoOp(p: MapmParams) extends Bundle {
   * valid photon at once. */
 class SoGroup(p: MapmParams) extends Bundle {
   val query = new QueryData(p)
-  val photon = Vec(3, Valid(UInt(p.indices.nodeBits.W)))
+  val photon = Vec(SoGroup.Size, Valid(UInt(p.indices.nodeBits.W)))
+}
+
+object SoGroup {
+  /** Shader operations in a group, at most: a tree-search operation's left child, right child
+    * and current node. */
+  val Size = 3
 }
 
 /** The result of one shader operation: colour bits and flags per channel (OVF 1, UNF 2, INV 4),
   * the cond check, and which query and photon it belongs to. */
 class SoResult(p: MapmParams) extends Bundle {
-  val colour = Vec(3, UInt(p.numbers.format.width.W))
-  val flags = Vec(3, UInt(3.W))
+  val colour = Vec(Rgb.Channels, UInt(p.numbers.format.width.W))
+  val flags = Vec(Rgb.Channels, UInt(3.W))
   val cond = Bool()
   val q = UInt(p.indices.queryBits.W)
   val photon = UInt(p.indices.nodeBits.W)

@@ -3,6 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.model.FloatFormat
+import mapm.params.Rgb
 
 /** One shader operation for the [[SOA]]: the photon's kernel, BRDF and power (r, g, b), the
   * query's radius h and contribution (r, g, b), the query position q and the photon position p,
@@ -11,8 +12,8 @@ class SoaRequest(format: FloatFormat, tagWidth: Int) extends Bundle {
   val kernel = UInt(format.width.W)
   val brdf = UInt(format.width.W)
   val h = UInt(format.width.W)
-  val power = Vec(ShaderChain.Channels, UInt(format.width.W))
-  val contrib = Vec(ShaderChain.Channels, UInt(format.width.W))
+  val power = Vec(Rgb.Channels, UInt(format.width.W))
+  val contrib = Vec(Rgb.Channels, UInt(format.width.W))
   val qx = UInt(format.width.W)
   val qy = UInt(format.width.W)
   val qz = UInt(format.width.W)
@@ -27,8 +28,8 @@ class SoaRequest(format: FloatFormat, tagWidth: Int) extends Bundle {
   * operation's tag. The colour is computed whatever `cond` says; the consumer discards it when
   * `cond` is false. */
 class SoaResult(format: FloatFormat, tagWidth: Int) extends Bundle {
-  val colour = Vec(ShaderChain.Channels, UInt(format.width.W))
-  val flags = Vec(ShaderChain.Channels, UInt(3.W))
+  val colour = Vec(Rgb.Channels, UInt(format.width.W))
+  val flags = Vec(Rgb.Channels, UInt(3.W))
   val cond = Bool()
   val tag = UInt(tagWidth.W)
 }

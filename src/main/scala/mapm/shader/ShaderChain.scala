@@ -3,7 +3,9 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.arith.P2S
+import mapm.fpu.FloatFields
 import mapm.model.FloatFormat
+import mapm.params.Rgb
 
 /** One shader operation: the shared kernel, BRDF and h, and per colour channel (r, g, b) the
   * photon power and the contribution, as bit patterns of the format, with an opaque tag. */
@@ -11,16 +13,16 @@ class ShaderRequest(format: FloatFormat, tagWidth: Int) extends Bundle {
   val kernel = UInt(format.width.W)
   val brdf = UInt(format.width.W)
   val h = UInt(format.width.W)
-  val power = Vec(ShaderChain.Channels, UInt(format.width.W))
-  val contrib = Vec(ShaderChain.Channels, UInt(format.width.W))
+  val power = Vec(Rgb.Channels, UInt(format.width.W))
+  val contrib = Vec(Rgb.Channels, UInt(format.width.W))
   val tag = UInt(tagWidth.W)
 }
 
 /** The colour of one shader operation: bits and flags (OVF = 1, UNF = 2, INV = 4) per channel,
   * and the operation's tag. */
 class ShaderResult(format: FloatFormat, tagWidth: Int) extends Bundle {
-  val colour = Vec(ShaderChain.Channels, UInt(format.width.W))
-  val flags = Vec(ShaderChain.Channels, UInt(3.W))
+  val colour = Vec(Rgb.Channels, UInt(format.width.W))
+  val flags = Vec(Rgb.Channels, UInt(3.W))
   val tag = UInt(tagWidth.W)
 }
 
@@ -40,7 +42,6 @@ class ShaderResult(format: FloatFormat, tagWidth: Int) extends Bundle {
   * follows `in.valid` and tags leave in order.
   */
 class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends Module {
-  import ShaderChain.Channels
   private val n = format.manWidth + 1
   private val ew = format.expWidth
   require(g >= 0 && g <= 8 && n >= 5 && tagWidth >= 1, s"ShaderChain: format $format, g = $g, tag width $tagWidth")
@@ -57,15 +58,13 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
   })
 
   private val req = io.in.bits
-  private def expOf(x: UInt): UInt = x(format.width - 2, format.manWidth)
-  private def fracOf(x: UInt): UInt = x(format.manWidth - 1, 0)
-  private def signOf(x: UInt): Bool = x(format.width - 1)
+  private val f = FloatFields(format)
 
   /** The n significand bits 1.f of `x`, skewed by P2S after `delay` cycles: bit s (MSB = 1)
     * comes out in cycle s + delay. */
   private def serial(x: UInt, delay: Int): Vec[Bool] = {
     val p2s = Module(new P2S(n))
-    p2s.io.in := ShiftRegister(Cat(1.U(1.W), fracOf(x)), delay)
+    p2s.io.in := ShiftRegister(Cat(1.U(1.W), f.frac(x)), delay)
     VecInit((1 to n).map(s => p2s.io.out(n - s)))
   }
 
@@ -82,22 +81,18 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
   qn.io.q := div.io.q
 
   // Exponents and special cases, formed in cycle 1.
-  val exps = Module(new ExponentPath(ew, Channels))
-  exps.io.kernel := expOf(req.kernel)
-  exps.io.brdf := expOf(req.brdf)
-  exps.io.h := expOf(req.h)
-  exps.io.power := VecInit(req.power.map(expOf))
-  exps.io.contrib := VecInit(req.contrib.map(expOf))
-
-  private def infNaN(x: UInt): Bool = expOf(x).andR
-  private def zeroExp(x: UInt): Bool = expOf(x) === 0.U
-  private def flushed(x: UInt): Bool = zeroExp(x) && fracOf(x).orR
+  val exps = Module(new ExponentPath(ew, Rgb.Channels))
+  exps.io.kernel := f.exp(req.kernel)
+  exps.io.brdf := f.exp(req.brdf)
+  exps.io.h := f.exp(req.h)
+  exps.io.power := VecInit(req.power.map(f.exp))
+  exps.io.contrib := VecInit(req.contrib.map(f.exp))
 
   private val toPack = digits + 17 // from cycle 1 to the packing cycle N+18
   private val sAtPack = ShiftRegister(qn.io.s, digits + 7) // s appears in cycle 11
 
   val result = Wire(new ShaderResult(format, tagWidth))
-  for (c <- 0 until Channels) {
+  for (c <- 0 until Rgb.Channels) {
     val (power, contrib) = (req.power(c), req.contrib(c))
     val mul2 = Module(new OnlineMul(n, digits, digits))
     mul2.io.x := qn.io.out
@@ -108,15 +103,15 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
 
     val factors = Seq(req.kernel, req.brdf, power, contrib)
     val special = Wire(new ShaderSpecial)
-    special.inv := (factors :+ req.h).map(infNaN).reduce(_ || _) || zeroExp(req.h)
-    special.zero := factors.map(zeroExp).reduce(_ || _)
-    special.flushed := factors.map(flushed).reduce(_ || _)
+    special.inv := (factors :+ req.h).map(f.isInfOrNaN).reduce(_ || _) || f.isZero(req.h)
+    special.zero := factors.map(f.isZero).reduce(_ || _)
+    special.flushed := factors.map(f.isFlushed).reduce(_ || _)
 
     val pack = Module(new NormalizePack(format, digits))
     pack.io.digits := mul3.io.p
     pack.io.e0 := ShiftRegister(exps.io.e0(c), toPack)
     pack.io.s := sAtPack
-    pack.io.sign := ShiftRegister((factors :+ req.h).map(signOf).reduce(_ ^ _), toPack)
+    pack.io.sign := ShiftRegister((factors :+ req.h).map(f.sign).reduce(_ ^ _), toPack)
     pack.io.special := ShiftRegister(special, toPack)
     result.colour(c) := pack.io.bits
     result.flags(c) := pack.io.flags
@@ -128,8 +123,9 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
 }
 
 object ShaderChain {
-  /** Colour channels per operation (r, g, b). */
-  val Channels = 3
+  /** Colour channels per operation: [[mapm.params.Rgb.Channels]], named here for callers that
+    * see the chain only. */
+  val Channels: Int = Rgb.Channels
 
   /** The module name, e.g. `ShaderChain_e8m23_g3`. */
   def name(format: FloatFormat, g: Int): String = s"ShaderChain_${format.name}_g$g"

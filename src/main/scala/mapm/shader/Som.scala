@@ -36,7 +36,7 @@ class Som(p: MapmParams) extends Module {
   for ((l, b) <- lanes.zipWithIndex) {
     l.io.h := io.h
     l.io.photonBase := io.photonBase
-    for (k <- 0 until 3) {
+    for (k <- 0 until SoGroup.Size) {
       val ph = io.in.bits.photon(k)
       l.io.insert(k).valid := io.in.valid && ph.valid && Som.lane(ph.bits, a) === b.U
       l.io.insert(k).bits.query := io.in.bits.query
@@ -57,7 +57,7 @@ object Som {
     * else the remainder digit by digit from the top: r = (2 r + bit) mod a, one compare-subtract a bit). */
   def lane(photon: UInt, a: Int): UInt =
     if (a == 1) 0.U
-    else if ((a & (a - 1)) == 0) photon(log2Ceil(a) - 1, 0)
+    else if (isPow2(a)) photon(log2Ceil(a) - 1, 0)
     else {
       val w = log2Ceil(a)
       (photon.getWidth - 1 to 0 by -1).foldLeft(0.U(w.W)) { (r, i) =>

@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.params.{MapmParams, QueryData, SoResult}
+import mapm.params.{MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
 import mapm.util.Pick
 
 /** One shader operation waiting in a reservation station: its query and the photon's node index. */
@@ -37,7 +37,7 @@ class SomLane(p: MapmParams) extends Module {
   val io = IO(new Bundle {
     val h = Input(UInt(w.W))
     val photonBase = Input(UInt(p.memory.addressBits.W))
-    val insert = Input(Vec(3, Valid(new SoOp(p))))
+    val insert = Input(Vec(SoGroup.Size, Valid(new SoOp(p))))
     val free = Output(UInt(log2Ceil(n + 1).W))
     val mem = new MemPort(l1Config.down)
     val out = Valid(new SoResult(p))
@@ -60,17 +60,17 @@ class SomLane(p: MapmParams) extends Module {
 
   // Insertion into the lowest free entries, in group order.
   private var avail = ~valid.asUInt
-  for (k <- 0 until 3) {
+  for (k <- 0 until SoGroup.Size) {
     val at = PriorityEncoderOH(avail)
     for (e <- 0 until n) when(io.insert(k).valid && at(e)) { valid(e) := true.B; sent(e) := false.B; ops(e) := io.insert(k).bits }
-    if (k < 2) avail = Mux(io.insert(k).valid, avail & ~at, avail)
+    if (k < SoGroup.Size - 1) avail = Mux(io.insert(k).valid, avail & ~at, avail)
   }
 
   // Photon-record requests, round-robin over the entries still to ask.
   val rrNext = RegInit(0.U(Pick.bits(n).W))
   private val (want, pick) = Pick.roundRobin(valid.asUInt & ~sent.asUInt, rrNext)
   l1.io.up.req.valid := want
-  l1.io.up.req.bits.addr := io.photonBase + (ops(pick).photon << 5)
+  l1.io.up.req.bits.addr := io.photonBase + (ops(pick).photon << Records.indexShift(Records.photon))
   l1.io.up.req.bits.id := pick
   l1.io.up.req.bits.len := 0.U
   when(l1.io.up.req.fire) { sent(pick) := true.B; rrNext := Pick.next(pick, n) }
@@ -79,18 +79,18 @@ class SomLane(p: MapmParams) extends Module {
   l1.io.up.resp.ready := true.B
   private val r = l1.io.up.resp
   private val op = ops(r.bits.id)
-  private def field(i: Int): UInt = r.bits.data(32 * i + w - 1, 32 * i)
+  private val photon = r.bits.data.asTypeOf(new PhotonRecord(Records.SlotBytes, w))
   when(r.fire) { valid(r.bits.id) := false.B }
   soa.io.in.valid := r.fire
-  soa.io.in.bits.px := field(0)
-  soa.io.in.bits.py := field(1)
-  soa.io.in.bits.pz := field(2)
-  for (c <- 0 until 3) {
-    soa.io.in.bits.power(c) := field(3 + c)
+  soa.io.in.bits.px := photon.x.value
+  soa.io.in.bits.py := photon.y.value
+  soa.io.in.bits.pz := photon.z.value
+  for (c <- 0 until Rgb.Channels) {
+    soa.io.in.bits.power(c) := photon.power(c).value
     soa.io.in.bits.contrib(c) := op.query.contrib(c)
   }
-  soa.io.in.bits.kernel := field(6)
-  soa.io.in.bits.brdf := field(7)
+  soa.io.in.bits.kernel := photon.kernel.value
+  soa.io.in.bits.brdf := photon.brdf.value
   soa.io.in.bits.h := io.h
   soa.io.in.bits.qx := op.query.x
   soa.io.in.bits.qy := op.query.y
@@ -99,7 +99,7 @@ class SomLane(p: MapmParams) extends Module {
   io.issued := r.fire
   // A photon record's slots hold format bits zero-extended: anything above them is a malformed image.
   private val malformed = RegInit(false.B)
-  if (w < 32) when(r.fire && (0 until 8).map(i => r.bits.data(32 * i + 31, 32 * i + w).orR).reduce(_ || _)) { malformed := true.B }
+  if (w < 8 * Records.SlotBytes) when(r.fire && photon.slots.map(_.pad.orR).reduce(_ || _)) { malformed := true.B }
   io.error := l1.io.protocolError || malformed
 
   io.out.valid := soa.io.out.valid
@@ -116,15 +116,16 @@ class SomLane(p: MapmParams) extends Module {
 }
 
 object SomLane {
-  /** One SOP L1 bank: [[MapmParams.sopL1Bank]], one 32-byte photon record per read, one id per
+  /** One SOP L1 bank: [[MapmParams.sopL1Bank]], one photon record per read, one id per
     * reservation-station entry, whole lines to the SOP L2. A bank holds the records of index
     * mod soaPerSom = its lane; with a power-of-two lane count (and one record per line) it is
     * built interleaved, so that its set index skips the lane bits and every set is used. */
   def l1Config(p: MapmParams): CacheConfig = {
     val g = p.sopL1Bank
     val a = p.counts.soaPerSom
-    val interleave = if ((a & (a - 1)) == 0 && g.lineBytes == 32) a else 1
-    CacheConfig(g, wordBytes = 32, idBits = Pick.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes,
+    val record = Records.photon.bytes
+    val interleave = if (isPow2(a) && g.lineBytes == record) a else 1
+    CacheConfig(g, wordBytes = record, idBits = Pick.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes,
       interleave = interleave)
   }
 }

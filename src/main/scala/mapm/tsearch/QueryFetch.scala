@@ -3,7 +3,7 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.params.{MapmParams, QueryData, QueryIn}
+import mapm.params.{MapmParams, QueryData, QueryHwRecord, QueryIn, Records, Rgb}
 import mapm.util.Pick
 
 /** The front of the TS block: takes the host's tree-search instructions (query position and
@@ -23,6 +23,8 @@ class QueryFetch(p: MapmParams) extends Module {
   private val n = p.queues.queryFetches
   private val w = p.numbers.format.width
   val soqConfig: CacheConfig = QueryFetch.soqConfig(p)
+  require(Records.query.fields.forall(f => f.name.startsWith("contrib_") || f.offset >= Records.queryHwBytes),
+    s"QueryFetch checks that the ${Records.queryHwBytes} bytes it reads hold the contribution and zeros, but the query record has another field among them")
   override def desiredName = s"QueryFetch_$n"
 
   val io = IO(new Bundle {
@@ -49,7 +51,7 @@ class QueryFetch(p: MapmParams) extends Module {
   private val room = !valid.asUInt.andR
   io.in.ready := room && soq.io.up.req.ready
   soq.io.up.req.valid := io.in.valid && room
-  soq.io.up.req.bits.addr := io.queryBase + (io.in.bits.q << 5)
+  soq.io.up.req.bits.addr := io.queryBase + (io.in.bits.q << Records.indexShift(Records.query))
   soq.io.up.req.bits.id := tail
   soq.io.up.req.bits.len := 0.U
   when(io.in.fire) {
@@ -61,14 +63,14 @@ class QueryFetch(p: MapmParams) extends Module {
     held(tail).q := io.in.bits.q
   }
   soq.io.up.resp.ready := true.B
-  private val rec = soq.io.up.resp.bits.data
+  private val rec = soq.io.up.resp.bits.data.asTypeOf(new QueryHwRecord(Records.SlotBytes, w))
   when(soq.io.up.resp.fire) {
     val i = soq.io.up.resp.bits.id
     arrived(i) := true.B
-    for (c <- 0 until 3) held(i).contrib(c) := rec(32 * c + w - 1, 32 * c)
+    for (c <- 0 until Rgb.Channels) held(i).contrib(c) := rec.contrib(c).value
   }
-  // The rest of the 16 bytes read must be zero: the slots' upper bits and bytes 12..15.
-  private val padding = (0 until 3).filter(_ => w < 32).map(c => rec(32 * c + 31, 32 * c + w)) :+ rec(127, 96)
+  // The rest of the bytes read must be zero: the slots' upper bits and the bytes after the contribution.
+  private val padding = rec.contrib.filter(_ => w < 8 * Records.SlotBytes).map(_.pad) :+ rec.rest
   private val malformed = RegInit(false.B)
   when(soq.io.up.resp.fire && padding.map(_.orR).reduce(_ || _)) { malformed := true.B }
   // Arrived queries leave round-robin from the slot after the last one out (records come back in
@@ -85,13 +87,13 @@ class QueryFetch(p: MapmParams) extends Module {
 }
 
 object QueryFetch {
-  /** The SOQ cache: Table 4.2's geometry, the first 16 bytes of a query record per read, fetched from memory
+  /** The SOQ cache: Table 4.2's geometry, the part of a query record the hardware reads (16 bytes) per read, fetched from memory
     * in the port's beats. Every query misses once (its record is read once), so the cache keeps
     * as many misses in flight as there are query fetches (up to its 64 MSHRs): at 100 cycles of
     * memory latency, 4 MSHRs would hold the stream to 0.04 queries per cycle. */
   def soqConfig(p: MapmParams): CacheConfig = {
     val n = p.queues.queryFetches
-    CacheConfig(p.caches.soq, wordBytes = 16, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
+    CacheConfig(p.caches.soq, wordBytes = Records.queryHwBytes, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
       downBytes = p.memory.dataBytes, mshrs = n min 64, targets = n min 64)
   }
 }

@@ -3,6 +3,7 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.arith.P2S
+import mapm.fpu.FloatFields
 import mapm.model.{FloatFormat, TsaModel}
 
 /** One tree-search comparison: query coordinate p, kernel radius h, split position s (bit
@@ -70,25 +71,18 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
 
   // Stage 0 (combinational): fields, input check, shift amounts, alignment.
   private val operands = Seq(io.in.bits.p, io.in.bits.h, io.in.bits.s)
-  private def expField(x: UInt) = x(fmt.width - 2, fmt.manWidth)
-  private def invalid(x: UInt) = {
-    val e = expField(x)
-    e.andR || (x(fmt.width - 1) && e.orR) // infinite or NaN; negative and not zero
-  }
-  private def significand(x: UInt) = {
-    val e = expField(x)
-    Mux(e.orR, Cat(1.U(1.W), x(fmt.manWidth - 1, 0)), 0.U((fmt.manWidth + 1).W))
-  }
+  private val f = FloatFields(fmt)
+  private def invalid(x: UInt) = f.isInfOrNaN(x) || (f.sign(x) && !f.isZero(x)) // infinite or NaN; negative and not zero
 
   val sal = Module(new ShiftAmountLogic(fmt.expWidth))
-  sal.io.pe := expField(io.in.bits.p)
-  sal.io.he := expField(io.in.bits.h)
-  sal.io.se := expField(io.in.bits.s)
+  sal.io.pe := f.exp(io.in.bits.p)
+  sal.io.he := f.exp(io.in.bits.h)
+  sal.io.se := f.exp(io.in.bits.s)
   private val amounts = Seq(sal.io.sap, sal.io.sah, sal.io.sas)
 
   val aligned = operands.zip(amounts).map { case (x, si) =>
     val sr = Module(new ShiftRight(fmt.manWidth + 1 + al.guardBits, fmt.expWidth + 1))
-    sr.io.din := (if (al.guardBits == 0) significand(x) else Cat(significand(x), 0.U(al.guardBits.W)))
+    sr.io.din := (if (al.guardBits == 0) f.sig(x) else Cat(f.sig(x), 0.U(al.guardBits.W)))
     sr.io.si := si
     if (al.sticky) Cat(sr.io.dout, sr.io.sticky) else sr.io.dout
   }

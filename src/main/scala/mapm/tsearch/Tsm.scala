@@ -3,7 +3,7 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.params.{MapmParams, QueryData, SoGroup}
+import mapm.params.{MapmParams, NodeRecord, QueryData, Records, SoGroup}
 import mapm.util.Pick
 
 /** A pending search inside one TSM: the query's slot in the TSM's query table and the node. */
@@ -107,7 +107,7 @@ class Tsm(p: MapmParams) extends Module {
   val slotValid = RegInit(VecInit(Seq.fill(ns)(false.B)))
   val slotReady = RegInit(VecInit(Seq.fill(ns)(false.B)))
   val slotOp = Reg(Vec(ns, new TsmOp(p)))
-  val slotRec = Reg(Vec(ns, UInt(64.W)))
+  val slotRec = Reg(Vec(ns, UInt((8 * Records.node.bytes).W)))
   private val freeSlots = ~slotValid.asUInt
   private val freeSlot = PriorityEncoder(freeSlots)
 
@@ -132,7 +132,7 @@ class Tsm(p: MapmParams) extends Module {
   when(newQuery) { table(freeQIdx) := io.query.bits }
 
   l1.io.up.req.valid := take
-  l1.io.up.req.bits.addr := io.cfg.nodeBase + (op.node << 3)
+  l1.io.up.req.bits.addr := io.cfg.nodeBase + (op.node << Records.indexShift(Records.node))
   l1.io.up.req.bits.id := freeSlot
   l1.io.up.req.bits.len := 0.U
   when(take) {
@@ -156,25 +156,25 @@ class Tsm(p: MapmParams) extends Module {
   private val (anyReady, pick) = Pick.roundRobin(readyMask, rrNext)
   private val issue = en && anyReady
   when(issue) { slotValid(pick) := false.B; rrNext := Pick.next(pick, ns) }
-  private val rec = slotRec(pick)
+  private val rec = slotRec(pick).asTypeOf(new NodeRecord(w))
   private val iop = slotOp(pick)
-  private val word = rec(63, 32)
-  private val axis = word(1, 0)
+  private val word = rec.word
+  private val axis = word.axis
   private val q = table(iop.qid)
   tsa.io.in.valid := issue
   tsa.io.in.bits.p := MuxLookup(axis, q.z)(Seq(0.U -> q.x, 1.U -> q.y))
   tsa.io.in.bits.h := io.cfg.h
-  tsa.io.in.bits.s := rec(w - 1, 0)
+  tsa.io.in.bits.s := rec.split.value
   private val info = Wire(new NextnodeInfo(p))
   info.qid := iop.qid
   info.node := iop.node
-  info.hasL := word(2)
-  info.hasR := word(3)
-  info.leafL := word(4)
-  info.leafR := word(5)
-  info.right := word(6 + p.indices.nodeBits - 1, 6)
-  info.bad := axis === 3.U || (word(2) && iop.node +& 1.U >= io.cfg.nodeCount) ||
-    (word(3) && word(31, 6) >= io.cfg.nodeCount) || word(31, 6) >= (BigInt(1) << p.indices.nodeBits).U
+  info.hasL := word.hasLeft
+  info.hasR := word.hasRight
+  info.leafL := word.leftIsLeaf
+  info.leafR := word.rightIsLeaf
+  info.right := word.right(p.indices.nodeBits - 1, 0)
+  info.bad := axis === 3.U || (word.hasLeft && iop.node +& 1.U >= io.cfg.nodeCount) ||
+    (word.hasRight && word.right >= io.cfg.nodeCount) || word.right >= (BigInt(1) << p.indices.nodeBits).U
   tsa.io.in.bits.tag := info.asUInt
 
   // Nextnode at the TSA's output.
@@ -218,9 +218,9 @@ class Tsm(p: MapmParams) extends Module {
 }
 
 object Tsm {
-  /** The TS L1 of one TSM: Table 4.2's geometry, 8-byte node records, one id per fetch slot, whole
-    * lines to the TS L2. */
+  /** The TS L1 of one TSM: Table 4.2's geometry, one node record per read, one id per fetch slot,
+    * whole lines to the TS L2. */
   def l1Config(p: MapmParams): CacheConfig =
-    CacheConfig(p.caches.tsL1, wordBytes = 8, idBits = Pick.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
+    CacheConfig(p.caches.tsL1, wordBytes = Records.node.bytes, idBits = Pick.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
       downBytes = p.caches.tsL1.lineBytes)
 }

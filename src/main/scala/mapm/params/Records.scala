@@ -1,0 +1,113 @@
+package mapm.params
+
+import chisel3._
+import chisel3.util.{isPow2, log2Ceil}
+import mapm.format.{MemoryLayout, Record => Layout}
+import mapm.model.NodeWord
+
+/** The memory records the hardware reads (docs/memory-layout.md) as Chisel bundles: a cache word
+  * is decoded with `.asTypeOf`. Sizes and offsets come from [[mapm.format.MemoryLayout]], the node
+  * word's bits from [[mapm.model.NodeWord]]; each bundle checks at elaboration that it matches them.
+  * Records are little-endian (the field at byte 0 is bits 0 and up) and a bundle's last field is
+  * its least significant one, so every bundle declares its fields from the record's end down.
+  */
+object Records {
+  /** Bytes of a format slot in the records the hardware reads. The packed 2-byte layout is read
+    * by the model only. */
+  val SlotBytes = 4
+
+  /** The node record. */
+  def node: Layout = MemoryLayout.node
+  /** The photon record of the hardware's slots. */
+  def photon: Layout = MemoryLayout.photon(SlotBytes)
+  /** The query record of the hardware's slots. */
+  def query: Layout = MemoryLayout.query(SlotBytes)
+  /** Bytes of a query record the SOQ cache reads. */
+  def queryHwBytes: Int = MemoryLayout.queryHwBytes(SlotBytes)
+
+  /** log2 of a record's size: an array index shifted left by it is the record's byte offset. */
+  def indexShift(r: Layout): Int = {
+    require(isPow2(r.bytes), s"${r.name} records are ${r.bytes} bytes; an address is an index shift only for a power of two")
+    log2Ceil(r.bytes)
+  }
+
+  /** Checks that `bundle` is exactly as wide as `bytes` bytes of a record called `name`. */
+  private[params] def requireWidth(bundle: Data, name: String, bytes: Int): Unit =
+    require(bundle.getWidth == 8 * bytes, s"the $name bundle is ${bundle.getWidth} bits wide, its record ${8 * bytes} (${bytes} bytes)")
+
+  /** Checks that field `f` of `layout` is `bytes` bytes at byte `offset`, as a bundle assumes. */
+  private[params] def requireField(layout: Layout, f: String, offset: Int, bytes: Int): Unit = {
+    val fd = layout(f)
+    require(fd.offset == offset && fd.bytes == bytes,
+      s"${layout.name} field $f is ${fd.bytes} bytes at byte ${fd.offset} in the memory layout; the bundle has $bytes at $offset")
+  }
+}
+
+/** A format value in a record slot of `slotBytes` bytes: the `width` format bits, zero-extended.
+  * `pad` (the bits above the value, none when the slot is exactly as wide) must be zero in a
+  * well-formed image. */
+class FormatSlot(slotBytes: Int, width: Int) extends Bundle {
+  require(width >= 1 && width <= 8 * slotBytes, s"a $width-bit format does not fit a $slotBytes-byte slot")
+  val pad = UInt((8 * slotBytes - width).W)
+  val value = UInt(width.W)
+}
+
+/** The node word ([[mapm.model.NodeWord]]): split axis (3 invalid), whether each child exists and
+  * is a leaf, and the right child's index. */
+class NodeWordBits extends Bundle {
+  val right = UInt(NodeWord.IndexBits.W)
+  val rightIsLeaf = Bool()
+  val leftIsLeaf = Bool()
+  val hasRight = Bool()
+  val hasLeft = Bool()
+  val axis = UInt(log2Ceil(NodeWord.AxisMask + 1).W)
+
+  require(NodeWord.AxisMask == (1 << axis.getWidth) - 1 && NodeWord.HasLeft == 1 << axis.getWidth &&
+    NodeWord.HasRight == NodeWord.HasLeft << 1 && NodeWord.LeftIsLeaf == NodeWord.HasRight << 1 &&
+    NodeWord.RightIsLeaf == NodeWord.LeftIsLeaf << 1 && NodeWord.RightShift == axis.getWidth + 4,
+    "the node word bundle's bits differ from mapm.model.NodeWord's")
+  Records.requireWidth(this, "node word", Records.node("word").bytes)
+}
+
+/** A KD node record: the split value in its slot, then the node word. `width` is the format's. */
+class NodeRecord(width: Int) extends Bundle {
+  val word = new NodeWordBits
+  val split = new FormatSlot(Records.node("split").bytes, width)
+
+  Records.requireField(Records.node, "split", 0, split.getWidth / 8)
+  Records.requireField(Records.node, "word", split.getWidth / 8, word.getWidth / 8)
+  Records.requireWidth(this, "node", Records.node.bytes)
+}
+
+/** A photon record of `slotBytes`-byte slots, its fields in [[MemoryLayout.PhotonFields]] order:
+  * position x, y, z, power per channel (r, g, b), kernel, BRDF. `width` is the format's. */
+class PhotonRecord(slotBytes: Int, width: Int) extends Bundle {
+  val brdf = new FormatSlot(slotBytes, width)
+  val kernel = new FormatSlot(slotBytes, width)
+  val power = Vec(Rgb.Channels, new FormatSlot(slotBytes, width))
+  val z = new FormatSlot(slotBytes, width)
+  val y = new FormatSlot(slotBytes, width)
+  val x = new FormatSlot(slotBytes, width)
+
+  /** The slots in record order. */
+  def slots: Seq[FormatSlot] = Seq(x, y, z) ++ power ++ Seq(kernel, brdf)
+
+  private val layout = MemoryLayout.photon(slotBytes)
+  require(MemoryLayout.PhotonFields == Seq("x", "y", "z") ++ Rgb.Names.map("power_" + _) ++ Seq("kernel", "brdf"),
+    s"the photon bundle's fields differ from MemoryLayout.PhotonFields ${MemoryLayout.PhotonFields.mkString(", ")}")
+  for ((f, i) <- MemoryLayout.PhotonFields.zipWithIndex) Records.requireField(layout, f, i * slotBytes, slotBytes)
+  Records.requireWidth(this, "photon", layout.bytes)
+}
+
+/** The part of a query record the SOQ cache reads ([[MemoryLayout.queryHwBytes]] bytes): the
+  * contribution per channel (r, g, b) in `slotBytes`-byte slots, then `rest`, the bytes after
+  * it (zero in the 4-byte layout). `width` is the format's. */
+class QueryHwRecord(slotBytes: Int, width: Int) extends Bundle {
+  private val layout = MemoryLayout.query(slotBytes)
+  private val hwBytes = MemoryLayout.queryHwBytes(slotBytes)
+  val rest = UInt((8 * (hwBytes - Rgb.Channels * slotBytes)).W)
+  val contrib = Vec(Rgb.Channels, new FormatSlot(slotBytes, width))
+
+  for ((c, i) <- Rgb.Names.zipWithIndex) Records.requireField(layout, "contrib_" + c, i * slotBytes, slotBytes)
+  Records.requireWidth(this, "query (hardware part)", hwBytes)
+}
