@@ -1,6 +1,6 @@
 package mapm.cli
 
-import mainargs.{ParserForMethods, TokensReader}
+import mainargs.{ParserForClass, ParserForMethods, TokensReader}
 import mapm.MapmError
 import mapm.model.FloatFormat
 
@@ -32,4 +32,9 @@ object Args {
       try Right(FloatFormat.parse(strs.last))
       catch { case e: MapmError => Left(e.getMessage) }
   }
+
+  /** The parser of the options `render` and `sweep` share. It lives here, not in the options'
+    * companion: mainargs finds a case class's defaults among its companion's members, which are
+    * not all known while the companion itself is being compiled (every default was lost). */
+  implicit lazy val rtlOptionsParser: ParserForClass[RtlOptions] = ParserForClass[RtlOptions]
 }

@@ -3,6 +3,7 @@ package mapm.cli
 import java.nio.file.{Files, Path, Paths}
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
+import mapm.cli.Args.rtlOptionsParser
 import mapm.model.{ImageIO, Metrics, RgbImage, Vec3}
 import mapm.sim.MapmRtl
 

@@ -2,7 +2,7 @@ package mapm.cli
 
 import java.nio.file.Path
 
-import mainargs.{ParserForClass, arg, main}
+import mainargs.{arg, main}
 import mapm.model.{FloatFormat, Parallel}
 import mapm.sim.Harness
 import Args.FloatFormatReader
@@ -35,8 +35,4 @@ final case class RtlOptions(
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
   def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads)
-}
-
-object RtlOptions {
-  implicit val parser: ParserForClass[RtlOptions] = ParserForClass[RtlOptions]
 }

@@ -3,6 +3,7 @@ package mapm.cli
 import java.nio.file.{Files, Paths}
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
+import mapm.cli.Args.rtlOptionsParser
 import mapm.sim.HarnessStats
 import mapm.params.MapmParams
 

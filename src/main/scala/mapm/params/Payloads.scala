@@ -35,12 +35,6 @@ class QueryData(p: MapmParams) extends Bundle {
   val q = UInt(p.indices.queryBits.W)
 }
 
-/** One shader operation: a query and the photon of node `photon`. */
-class SoOp(p: MapmParams) extends Bundle {
-  val query = new QueryData(p)
-  val photon = UInt(p.indices.nodeBits.W)
-}
-
 /** The shader operations of one tree-search operation, in Nextnode's order: left child, right
   * child, current node, with the query they share. They move as one: a handshake hands over every
   * valid photon at once. */
