@@ -52,8 +52,8 @@ object CostUnits {
     case "soa" =>
       MapmError.check(format.manWidth >= 4, s"cost: the SOA needs at least 4 fraction bits, format $format has ${format.manWidth}")
       new CostUnit("soa", SOA.name(format, g), () => new SOA(format, g, tagWidth), SOA.latency(format, g), soaIn,
-        (0 until ShaderChain.Channels).map(c => s"io_out_bits_colour_$c") ++
-          (0 until ShaderChain.Channels).map(c => s"io_out_bits_flags_$c") ++ Seq("io_out_bits_cond", "io_out_bits_tag"),
+        (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_colour_$c") ++
+          (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_flags_$c") ++ Seq("io_out_bits_cond", "io_out_bits_tag"),
         SoaRate, rateNote)
     case "tsa" =>
       new CostUnit("tsa", s"TSA_${format.name}_t$tagWidth", () => new TSA(format, tagWidth), TsaModel.latency(format),

@@ -123,10 +123,6 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
 }
 
 object ShaderChain {
-  /** Colour channels per operation: [[mapm.params.Rgb.Channels]], named here for callers that
-    * see the chain only. */
-  val Channels: Int = Rgb.Channels
-
   /** The module name, e.g. `ShaderChain_e8m23_g3`. */
   def name(format: FloatFormat, g: Int): String = s"ShaderChain_${format.name}_g$g"
 
