@@ -47,13 +47,14 @@ object Harness {
   def build(svDir: Path, top: String, trace: Boolean = false, log: String => Unit = _ => (), threads: Int = 1): Path = {
     MapmError.check(threads >= 1 && threads <= 64, s"simulation threads must be 1..64, got $threads")
     val svs = svFiles(svDir)
-    MapmError.check(svs.exists(f => new String(Files.readAllBytes(f), UTF_8).contains(s"module $top")), s"$svDir: no file defines module $top")
+    val svTexts = svs.map(f => new String(Files.readAllBytes(f), UTF_8)) // read once: tens of MB at 16/16/2
+    MapmError.check(svTexts.exists(_.contains(s"module $top")), s"$svDir: no file defines module $top")
     val configFile = svDir.resolve("mapm_config.h")
     MapmError.check(Files.isRegularFile(configFile), s"$svDir: no mapm_config.h (MapmRtl.emit and `mapm emit` write it beside the Verilog)")
     val configHeader = new String(Files.readAllBytes(configFile), UTF_8)
     MapmError.check(configHeader.contains(s"#define MAPM_TOP_NAME \"$top\""), s"$configFile is not the header of $top")
     val formats = CHeader.formats
-    val hash = Verilator.hash((svs.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) ++
+    val hash = Verilator.hash((svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
       sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+
       s"trace=$trace threads=$threads"): _*)
     val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}-$hash")
@@ -63,7 +64,7 @@ object Harness {
     Files.write(dir.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
     val fileList = dir.resolve("files.f")
     val config = dir.resolve("no-inline.vlt")
-    Files.write(config, noInlineConfig(svs.map(f => new String(Files.readAllBytes(f), UTF_8)).mkString("\n")).getBytes(UTF_8))
+    Files.write(config, noInlineConfig(svTexts.mkString("\n")).getBytes(UTF_8))
     Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
     log(s"verilating $top into $dir (cached for later runs) ...")
     val t0 = System.nanoTime()
