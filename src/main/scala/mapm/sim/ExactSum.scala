@@ -8,17 +8,21 @@ import mapm.model.FloatFormat
   *
   * A value with exponent field E >= 1 and fraction M is the integer (2^m + M) * 2^(E-1) in units of
   * 2^(1 - bias - m). `count` sums are kept side by side as that integer in 32-bit limbs held in
-  * Longs: an add puts less than 2^32 into each of two limbs, so carries are propagated every 2^30
-  * adds. Exponent field 0 counts as zero (the formats flush subnormals); infinity or NaN makes
-  * the sum NaN. [[toDouble]] rounds the exact sum to the nearest double, ties to even.
-  * Formats up to 32 bits wide (the memory image's limit).
+  * Longs: the significand (2^m + M < 2^53) shifted by (E-1) % 32 spans up to three limbs, so an add
+  * puts less than 2^32 into each of three limbs (starting at limb (E-1) / 32), and carries are
+  * propagated every 2^30 adds. Exponent field 0 counts as zero (the formats flush subnormals);
+  * infinity or NaN makes the sum NaN. [[toDouble]] rounds the exact sum to the nearest double,
+  * ties to even. Every [[FloatFormat]] (up to 64 bits wide, e.g. fp64) is taken.
   */
 final class ExactSum(val format: FloatFormat, val count: Int) {
-  require(format.width <= 32, s"exact sums take formats of at most 32 bits, got $format")
   private val ew = format.expWidth
   private val mw = format.manWidth
   private val bias = (1 << (ew - 1)) - 1
-  /** Limbs per sum: the widest value, plus room for carries and the sign. */
+  /** Limbs per sum. A value is below 2^(2^ew + m - 2), so it lies in limbs 0 to limbs - 3 (at least
+    * 2^ew + m + 2 bits); the highest limb an add writes, (2^ew - 3) / 32 + 2, is at most limbs - 1,
+    * and what it writes above limb limbs - 3 is zero. The two top limbs thus only gather carries
+    * and the sign: after normalizing, the sum is a two's complement number of 32 * limbs bits
+    * (at least 2^ew + m + 66), room for 2^67 adds of the largest value. */
   val limbs: Int = ((1 << ew) + mw + 1) / 32 + 3
   private val limb = new Array[Long](count * limbs)
   private val adds = new Array[Int](count)
@@ -29,13 +33,20 @@ final class ExactSum(val format: FloatFormat, val count: Int) {
     val e = ((bits >>> mw) & ((1L << ew) - 1)).toInt
     if (e == 0) return
     if (e == (1 << ew) - 1) { nan(i) = true; return }
-    val sig = (1L << mw) | (bits & ((1L << mw) - 1))
+    val sig = (1L << mw) | (bits & ((1L << mw) - 1)) // < 2^53
     val shift = e - 1
-    val v = sig << (shift % 32)
+    val r = shift % 32
+    // sig << r (< 2^84) as three parts < 2^32: bits 0-31 and 32-63 of the 64-bit shift (the bits
+    // it drops are the third part's), and bits 64-83 as (sig >> 32) >> (32 - r), whose shifts are
+    // 32 at most: a single shift by 64 - r would be a shift by 0 at r = 0 (Java takes the amount
+    // mod 64; C++ leaves it undefined), where the third part must be 0.
+    val v = sig << r
+    val p0 = v & 0xffffffffL
+    val p1 = v >>> 32
+    val p2 = (sig >>> 32) >>> (32 - r)
     val at = i * limbs + shift / 32
-    val lo = v & 0xffffffffL; val hi = v >>> 32
-    if (((bits >>> (ew + mw)) & 1) == 1) { limb(at) -= lo; limb(at + 1) -= hi }
-    else { limb(at) += lo; limb(at + 1) += hi }
+    if (((bits >>> (ew + mw)) & 1) == 1) { limb(at) -= p0; limb(at + 1) -= p1; limb(at + 2) -= p2 }
+    else { limb(at) += p0; limb(at + 1) += p1; limb(at + 2) += p2 }
     adds(i) += 1
     if (adds(i) == (1 << 30)) { normalize(i); adds(i) = 0 }
   }
