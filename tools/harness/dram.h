@@ -6,14 +6,17 @@
 // order and their beats interleave; the beats of one request stay in order. Bandwidth is a token
 // bucket: `bytesPerCycle` credit per cycle, a beat of `dataBytes` needs that much credit. With
 // `respGap` > 0, a beat that could be offered is held back with that probability (random gaps).
-// Protocol checks (each a failure message): an address not aligned to the request's size, an id
-// reused while its request is still outstanding.
+// Protocol checks (each a failure message): an address not aligned to the request's size, a
+// request not wholly inside one of the readable ranges (the image's node, photon and query arrays:
+// never the header, the query stream or a byte beyond the image), an id reused while its request
+// is still outstanding.
 #pragma once
 #include <cstdint>
 #include <cstring>
 #include <random>
 #include <string>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 class Dram {
@@ -24,9 +27,10 @@ class Dram {
     uint64_t readyAt;
   };
 
-  Dram(const std::vector<uint8_t>& image, int dataBytes, uint64_t latency, uint64_t latencyMax, double bytesPerCycle,
-       double respGap, uint64_t seed)
-      : mem_(image), dataBytes_(dataBytes), latency_(latency), latencyMax_(latencyMax), bandwidth_(bytesPerCycle),
+  // `readable`: the [begin, end) byte ranges a request may read, each within the image.
+  Dram(const std::vector<uint8_t>& image, std::vector<std::pair<uint64_t, uint64_t>> readable, int dataBytes, uint64_t latency,
+       uint64_t latencyMax, double bytesPerCycle, double respGap, uint64_t seed)
+      : mem_(image), readable_(std::move(readable)), dataBytes_(dataBytes), latency_(latency), latencyMax_(latencyMax), bandwidth_(bytesPerCycle),
         respGap_(respGap), rng_(seed) {}
 
   // Accepts a request in `cycle`; returns an error message or "".
@@ -34,6 +38,11 @@ class Dram {
     const uint64_t bytes = (len + 1) * dataBytes_;
     if (addr % bytes != 0)
       return "memory protocol: address 0x" + hex(addr) + " not aligned to the request size " + std::to_string(bytes);
+    bool inside = false;
+    for (const auto& r : readable_) inside = inside || (addr >= r.first && addr + bytes <= r.second && r.second <= mem_.size());
+    if (!inside)
+      return "memory protocol: a read of " + std::to_string(bytes) + " bytes at 0x" + hex(addr) +
+             " is outside the node, photon and query arrays of the " + std::to_string(mem_.size()) + "-byte image";
     if (!ids_.insert(id).second)
       return "memory protocol: id " + std::to_string(id) + " reused while its request is outstanding";
     const uint64_t lat = latencyMax_ > latency_ ? std::uniform_int_distribution<uint64_t>(latency_, latencyMax_)(rng_) : latency_;
@@ -60,7 +69,7 @@ class Dram {
     }
     const Request& r = pending_[chosen_];
     const uint64_t at = r.addr + (uint64_t)r.sent * dataBytes_;
-    for (int j = 0; j < dataBytes_; j++) data[j] = at + j < mem_.size() ? mem_[at + j] : 0;
+    memcpy(data, &mem_[at], dataBytes_);  // inside the image: request() checked the range
     *id = r.id;
     *last = r.sent + 1 == r.beats;
     return true;
@@ -92,6 +101,7 @@ class Dram {
   }
 
   const std::vector<uint8_t>& mem_;
+  const std::vector<std::pair<uint64_t, uint64_t>> readable_;
   int dataBytes_;
   uint64_t latency_, latencyMax_;
   double bandwidth_, respGap_;

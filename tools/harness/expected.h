@@ -1,6 +1,7 @@
 // The expected shader-operation results, written by mapm.sim.ExpectedSo (Scala) in the format of
 // mapm.format.ExpectedSoFile (docs/harness.md), read through the generated mapm_formats.h: a
-// header (format, record count, image size), then one record per SO sorted by (query, photon).
+// header (format, colour field size, record count, image size), then one record per SO sorted by
+// (query, photon); colours take 4 bytes up to 32-bit formats, 8 above.
 // Lookup: the records of query q are [first[q], first[q+1]); the photon is found by binary search.
 #pragma once
 #include <algorithm>
@@ -12,7 +13,8 @@
 #include "mapm_formats.h"
 
 struct SoRecord {
-  uint32_t q, photon, colour[3];
+  uint32_t q, photon;
+  uint64_t colour[3];
   uint16_t flagsCond;
   int flags(int c) const { return (flagsCond >> (SO_FLAG_BITS * c)) & ((1 << SO_FLAG_BITS) - 1); }
   bool cond() const { return (flagsCond >> SO_COND_BIT) & 1; }
@@ -43,14 +45,20 @@ class Expected {
     const uint64_t count = expected_count(h);
     width = expected_width(h); height = expected_height(h);
     ew = expected_exp_width(h); mw = expected_man_width(h);
+    const unsigned cb = expected_colour_bytes(h);
+    if (cb != (1 + ew + mw <= 32 ? 4u : 8u)) {
+      fclose(f);
+      return path + ": colour fields of " + std::to_string(cb) + " bytes for a " + std::to_string(1 + ew + mw) + "-bit format";
+    }
+    const uint32_t bytes = so_bytes(cb);
     rec.resize(count);
-    std::vector<uint8_t> chunk(SO_BYTES * 65536);
+    std::vector<uint8_t> chunk(bytes * 65536);
     for (uint64_t i = 0; i < count;) {
       const uint64_t n = std::min<uint64_t>(count - i, 65536);
-      if (fread(chunk.data(), SO_BYTES, n, f) != n) { fclose(f); return path + ": truncated"; }
+      if (fread(chunk.data(), bytes, n, f) != n) { fclose(f); return path + ": truncated"; }
       for (uint64_t k = 0; k < n; k++, i++) {
-        const uint8_t* r = &chunk[SO_BYTES * k];
-        rec[i] = {so_query(r), so_photon(r), {so_colour_r(r), so_colour_g(r), so_colour_b(r)}, so_flags(r)};
+        const uint8_t* r = &chunk[bytes * k];
+        rec[i] = {so_query(r, cb), so_photon(r, cb), {so_colour_r(r, cb), so_colour_g(r, cb), so_colour_b(r, cb)}, so_flags(r, cb)};
       }
     }
     fclose(f);

@@ -31,12 +31,9 @@ int main(int argc, char** argv) {
   Expected exp;
   std::string failure;
   auto fatal = [&](const std::string& m) { printf("FAIL seed=%llu: %s\n", (unsigned long long)opt.seed, m.c_str()); exit(1); };
-  if (!(failure = img.load(opt.image)).empty()) fatal(failure);
+  if (!(failure = img.load(opt.image, MAPM_EXP_WIDTH, MAPM_MAN_WIDTH, MAPM_SLOT_BYTES)).empty()) fatal(failure);
   if (!(failure = exp.load(opt.expected, img.queries)).empty()) fatal(failure);
   if (exp.ew != img.ew || exp.mw != img.mw) fatal("the expected-SO file and the image use different formats");
-  if (img.ew != MAPM_EXP_WIDTH || img.mw != MAPM_MAN_WIDTH)
-    fatal("the image's format e" + std::to_string(img.ew) + "m" + std::to_string(img.mw) + " is not the hardware's (e" +
-          std::to_string(MAPM_EXP_WIDTH) + "m" + std::to_string(MAPM_MAN_WIDTH) + ")");
   const uint64_t pixels = (uint64_t)exp.width * exp.height;
   for (uint32_t q = 0; q < img.queries; q++)
     if (img.pixel(q) >= pixels) fatal("query " + std::to_string(q) + " has pixel " + std::to_string(img.pixel(q)) + " outside the image");
@@ -46,7 +43,7 @@ int main(int argc, char** argv) {
 
   Bench bench(argc, argv, opt);
   bench.reset(img);
-  Dram dram(img.bytes, MAPM_MEM_DATA_BYTES, opt.latency, opt.latencyMax ? opt.latencyMax : opt.latency, opt.bandwidth, opt.respGap,
+  Dram dram(img.bytes, img.readable(), MAPM_MEM_DATA_BYTES, opt.latency, opt.latencyMax ? opt.latencyMax : opt.latency, opt.bandwidth, opt.respGap,
             opt.seed);
   // Host-side randomness (query-stream gaps, request back-pressure), apart from the DRAM's.
   std::mt19937_64 host(opt.seed * 0x9e3779b97f4a7c15ull + 1);
@@ -62,7 +59,7 @@ int main(int argc, char** argv) {
   while (failure.empty()) {
     const uint64_t cycle = bench.cycle();
     Drive d;
-    d.queryValid = fed < img.streamEntries && !(opt.queryGap > 0 && coin(host) < opt.queryGap);
+    d.queryValid = fed < img.queries && !(opt.queryGap > 0 && coin(host) < opt.queryGap);
     d.reqReady = !(opt.reqStall > 0 && coin(host) < opt.reqStall);
     if (d.queryValid) {
       const uint32_t k = (uint32_t)fed;
@@ -71,7 +68,7 @@ int main(int argc, char** argv) {
     d.respValid = dram.present(cycle, beat, &d.respId, &d.respLast);
     d.respData = beat;
     const Sample s = bench.drive(d);
-    if (fed == img.streamEntries && s.done) {
+    if (fed == img.queries && s.done) {
       if (dram.outstanding()) failure = "io_done high with " + std::to_string(dram.outstanding()) + " memory requests outstanding";
       break;
     }
@@ -106,7 +103,7 @@ int main(int argc, char** argv) {
     }
   }
   progress();
-  if (failure.empty() && fed < img.streamEntries) failure = "done before every query was fed";
+  if (failure.empty() && fed < img.queries) failure = "done before every query was fed";
   if (failure.empty()) failure = check.missing();
   bench.finish();
 

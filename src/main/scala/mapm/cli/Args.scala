@@ -2,6 +2,7 @@ package mapm.cli
 
 import mainargs.{ParserForClass, ParserForMethods, TokensReader}
 import mapm.MapmError
+import mapm.format.SlotLayout
 import mapm.model.FloatFormat
 
 /** Helpers shared by the commands: running a mainargs parser with our error convention, and
@@ -30,6 +31,13 @@ object Args {
     def shortName = "format"
     def read(strs: Seq[String]): Either[String, FloatFormat] =
       try Right(FloatFormat.parse(strs.last))
+      catch { case e: MapmError => Left(e.getMessage) }
+  }
+
+  implicit object SlotLayoutReader extends TokensReader.Simple[SlotLayout] {
+    def shortName = "layout"
+    def read(strs: Seq[String]): Either[String, SlotLayout] =
+      try Right(SlotLayout.parse(strs.last))
       catch { case e: MapmError => Left(e.getMessage) }
   }
 

@@ -3,9 +3,10 @@ package mapm.cli
 import java.nio.file.Path
 
 import mainargs.{arg, main}
+import mapm.format.SlotLayout
 import mapm.model.{FloatFormat, Parallel}
 import mapm.sim.Harness
-import Args.FloatFormatReader
+import Args.{FloatFormatReader, SlotLayoutReader}
 
 /** The options `render` and `sweep` share ([[RtlRun]]): the scene and its number format, the
   * harness's memory model and limits ([[Harness.RunOptions]]), the output folder and the model's
@@ -13,7 +14,8 @@ import Args.FloatFormatReader
 @main
 final case class RtlOptions(
     @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
-    @arg(doc = "number format: fp32, bf16, fp16, fp24 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
+    @arg(doc = "number format: fp32, bf16, fp16, fp24, fp64 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
+    @arg(doc = "memory records: packed (format slots of 2, 4 or 8 bytes, the smallest that fits) or wide (at least 4)") layout: SlotLayout = SlotLayout.Packed,
     @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
     @arg(doc = "memory latency in cycles") latency: Int = 100,
     @arg(doc = "draw each request's latency from [latency, this] (0: fixed latency)") latencyMax: Int = 0,
@@ -34,5 +36,5 @@ final case class RtlOptions(
       respGap, simThreads)
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
-  def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads)
+  def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads, layout)
 }

@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.file.{Files, Path, Paths}
 
 import mapm.MapmError
-import mapm.format.MemoryImage
+import mapm.format.{MemoryImage, SlotLayout}
 import mapm.model._
 import mapm.sim.{ExpectedSo, Harness, MapmRtl}
 import mapm.params.MapmParams
@@ -13,7 +13,7 @@ import mapm.params.MapmParams
   * harness (cached) -> run -> comparison with the model. */
 object RtlRun {
   /** A frame ready for the hardware: its files in `work` and the model's results. */
-  final case class Prepared(name: String, config: SceneConfig, frame: Frame, image: Path, expected: Path,
+  final case class Prepared(name: String, config: SceneConfig, frame: Frame, layout: SlotLayout, image: Path, expected: Path,
                             model: ExpectedSo.Result, work: Path, times: StageTimes)
 
   /** The configurations to run and the frame they run on, in one number format. */
@@ -34,34 +34,38 @@ object RtlRun {
   private def secs(t0: Long): Double = (System.nanoTime() - t0) / 1e9
 
   /** Loads `scene`, resolves its number format once (`format`, else the scene's, else fp32), makes
-    * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits, then runs the model
-    * side once; files go to `outDir/<scene>-rtl/`. */
-  def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int): Setup = {
+    * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits and memory records in
+    * `layout`, then runs the model side once; files go to `outDir/<scene>-rtl/`. */
+  def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int,
+            layout: SlotLayout = SlotLayout.Packed): Setup = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g) }
+    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout) }
     val frame = Frame.prepare(config, fmt, threads)
     val name = ModelRun.sceneName(Paths.get(scene))
     val work = Paths.get(outDir).resolve(s"$name-rtl")
     Files.createDirectories(work)
     val t0 = System.nanoTime()
     val image = work.resolve("image.bin")
-    MemoryImage.from(frame.map, frame.querySet).write(image)
+    MemoryImage.from(frame.map, frame.querySet, layout).write(image)
     val t1 = System.nanoTime()
     val expected = work.resolve("expected.bin")
     val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"))
-    Setup(params, Prepared(name, config, frame, image, expected, model, work,
+    Setup(params, Prepared(name, config, frame, layout, image, expected, model, work,
       frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1))))
   }
 
   /** The frame of [[setup]] alone, for callers that make their own configurations in its format. */
-  def prepare(scene: String, format: Option[FloatFormat], g: Int, outDir: String, threads: Int): Prepared =
-    setup(scene, format, g, Seq.empty, outDir, threads).prep
+  def prepare(scene: String, format: Option[FloatFormat], g: Int, outDir: String, threads: Int,
+              layout: SlotLayout = SlotLayout.Packed): Prepared =
+    setup(scene, format, g, Seq.empty, outDir, threads, layout).prep
 
   /** Emits, builds and runs configuration `p` (in the frame's format, as [[setup]] makes it) on a
     * prepared frame; the harness writes into `dir`. */
   def runConfig(prep: Prepared, p: MapmParams, opts: Harness.RunOptions, dir: Path, log: String => Unit): ConfigRun = {
+    MapmError.check(p.numbers.format == prep.frame.format && p.memory.layout == prep.layout,
+      s"${p.name}: the frame was prepared in ${prep.frame.format} with the ${prep.layout} layout, the configuration reads ${p.numbers.format} in the ${p.memory.layout} one")
     val t0 = System.nanoTime()
     val (sv, top) = MapmRtl.emit(p, log)
     val t1 = System.nanoTime()

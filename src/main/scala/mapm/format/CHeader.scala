@@ -50,14 +50,17 @@ object CHeader {
   }
 
   /** `mapm_formats.h`: the memory image's and the expected-SO file's records ([[MemoryLayout]],
-    * [[ExpectedSoFile]]), their magics and versions, and the SO flag bits. */
+    * [[ExpectedSoFile]]; the image's records per slot size, the SO record per colour size), their
+    * magics and versions, and the SO flag bits. */
   def formats: String = header("mapm.format.CHeader", Seq(
     "IMAGE_MAGIC" -> Record.magic(MemoryLayout.Magic), "IMAGE_VERSION" -> MemoryLayout.Version.toLong,
     "EXPECTED_MAGIC" -> Record.magic(ExpectedSoFile.Magic), "EXPECTED_VERSION" -> ExpectedSoFile.Version.toLong,
     "SO_FLAG_BITS" -> ExpectedSoFile.FlagBits.toLong, "SO_COND_BIT" -> ExpectedSoFile.CondBit.toLong), Seq(
-    record(MemoryLayout.header), record(MemoryLayout.node),
-    slotted(Seq(4, 2).map(s => s -> MemoryLayout.photon(s))),
-    slotted(Seq(4, 2).map(s => s -> MemoryLayout.query(s))),
-    slotted(Seq(4, 2).map(s => s -> MemoryLayout.stream(s))),
-    record(ExpectedSoFile.header), record(ExpectedSoFile.record)))
+    record(MemoryLayout.header)) ++
+    Seq[Int => Record](MemoryLayout.node, MemoryLayout.photon, MemoryLayout.query, MemoryLayout.stream).map(r => slotted(bySlot.map(s => s -> r(s)))) ++
+    Seq(record(ExpectedSoFile.header), slotted(Seq(8, 4).map(c => c -> ExpectedSoFile.record(c)))))
+
+  /** The image's slot sizes, the most common (4 bytes) last: the one a generated getter assumes
+    * for any slot not listed. */
+  private val bySlot: Seq[Int] = MemoryLayout.SlotSizes.filter(_ != 4) :+ 4
 }

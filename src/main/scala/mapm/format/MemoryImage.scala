@@ -11,12 +11,12 @@ import mapm.model.{FloatFormat, NodeWord, PhotonMap, QuerySet}
   * this class holds the fields as arrays indexed by node (photon fields in node order) or query,
   * and writes and reads them through those records.
   *
-  * With `packed`, format values sit in 2-byte slots (formats up to 16 bits wide), which halves
-  * the photon and query records; otherwise in 4-byte slots (formats up to 32 bits wide).
+  * Format values sit in slots of the size `layout` gives the format (2, 4 or 8 bytes), which
+  * sizes the node, photon and query records and the stream entries.
   */
 final class MemoryImage(
     val format: FloatFormat,
-    val packed: Boolean,
+    val layout: SlotLayout,
     val h: Long,
     val nodeSplit: Array[Long],
     val nodeWord: Array[Int],
@@ -35,12 +35,13 @@ final class MemoryImage(
 
   val nodeCount: Int = nodeWord.length
   val queryCount: Int = pixel.length
-  val slot: Int = MemoryLayout.slotBytes(format, packed)
+  val slot: Int = MemoryLayout.slotBytes(format, layout)
   private val records = new Records(slot)
+  val nodeBytes: Int = records.nodeR.bytes
   val photonBytes: Int = records.photonR.bytes
   val queryBytes: Int = records.queryR.bytes
   val nodeBase: Long = MemoryLayout.header.bytes
-  val photonBase: Long = align(nodeBase + MemoryLayout.node.bytes.toLong * nodeCount)
+  val photonBase: Long = align(nodeBase + nodeBytes.toLong * nodeCount)
   val queryBase: Long = align(photonBase + photonBytes.toLong * nodeCount)
   val streamBase: Long = align(queryBase + queryBytes.toLong * queryCount)
   val totalBytes: Long = streamBase + records.streamR.bytes.toLong * stream.length
@@ -51,9 +52,8 @@ final class MemoryImage(
     val b = ByteBuffer.allocate(totalBytes.toInt).order(ByteOrder.LITTLE_ENDIAN)
     val hd = MemoryLayout.header
     for ((f, v) <- Seq("magic" -> Record.magic(MemoryLayout.Magic), "version" -> MemoryLayout.Version.toLong,
-                       "exp_width" -> format.expWidth.toLong, "man_width" -> format.manWidth.toLong, "packed" -> (if (packed) 1L else 0L),
-                       "slot" -> slot.toLong, "nodes" -> nodeCount.toLong, "queries" -> queryCount.toLong,
-                       "stream_entries" -> stream.length.toLong, "h" -> h, "photon_base" -> photonBase, "query_base" -> queryBase,
+                       "exp_width" -> format.expWidth.toLong, "man_width" -> format.manWidth.toLong, "layout" -> layout.code.toLong,
+                       "slot" -> slot.toLong, "nodes" -> nodeCount.toLong, "queries" -> queryCount.toLong, "h" -> h, "photon_base" -> photonBase, "query_base" -> queryBase,
                        "stream_base" -> streamBase, "total_bytes" -> totalBytes))
       hd.put(b, 0, f, v)
     import records._
@@ -83,7 +83,7 @@ final class MemoryImage(
 
   override def equals(o: Any): Boolean = o match {
     case m: MemoryImage =>
-      format == m.format && packed == m.packed && h == m.h &&
+      format == m.format && layout == m.layout && h == m.h &&
         java.util.Arrays.equals(nodeSplit, m.nodeSplit) && java.util.Arrays.equals(nodeWord, m.nodeWord) &&
         java.util.Arrays.deepEquals(photon.asInstanceOf[Array[AnyRef]], m.photon.asInstanceOf[Array[AnyRef]]) &&
         java.util.Arrays.deepEquals(contribution.asInstanceOf[Array[AnyRef]], m.contribution.asInstanceOf[Array[AnyRef]]) &&
@@ -92,13 +92,13 @@ final class MemoryImage(
         java.util.Arrays.equals(stream, m.stream)
     case _ => false
   }
-  override def hashCode: Int = (format, packed, h, nodeCount, queryCount, java.util.Arrays.hashCode(nodeWord)).hashCode
+  override def hashCode: Int = (format, layout, h, nodeCount, queryCount, java.util.Arrays.hashCode(nodeWord)).hashCode
 }
 
 object MemoryImage {
   /** [[MemoryLayout]]'s records for `slot`-byte slots, with their fields looked up once. */
   private final class Records(slot: Int) {
-    val nodeR: Record = MemoryLayout.node
+    val nodeR: Record = MemoryLayout.node(slot)
     val photonR: Record = MemoryLayout.photon(slot)
     val queryR: Record = MemoryLayout.query(slot)
     val streamR: Record = MemoryLayout.stream(slot)
@@ -114,12 +114,11 @@ object MemoryImage {
 
   /** The image of a photon map and its queries; the stream issues the queries in `order`
     * (default: query order). */
-  def from(map: PhotonMap, queries: QuerySet, packed: Boolean = false, order: Option[Array[Int]] = None): MemoryImage = {
+  def from(map: PhotonMap, queries: QuerySet, layout: SlotLayout = SlotLayout.Packed, order: Option[Array[Int]] = None): MemoryImage = {
     MapmError.check(map.format == queries.format, s"memory image: photon map (${map.format}) and queries (${queries.format}) use different formats")
-    MemoryLayout.slotBytes(map.format, packed)
     val stream = order.getOrElse(Array.tabulate(queries.size)(identity))
     MapmError.check(stream.sorted.sameElements(0 until queries.size), "memory image: the stream order must be a permutation of the queries")
-    new MemoryImage(map.format, packed, map.h, map.split.clone(), NodeWord.all(map.tree),
+    new MemoryImage(map.format, layout, map.h, map.split.clone(), NodeWord.all(map.tree),
       Array(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).map(_.clone()),
       queries.contribution.map(_.clone()), queries.pixel.clone(), Array(queries.qx, queries.qy, queries.qz).map(_.clone()), stream.clone())
   }
@@ -144,13 +143,13 @@ object MemoryImage {
     val (ew, mw) = (field("exp_width").toInt, field("man_width").toInt)
     if (ew < 2 || ew > 11 || mw < 1 || mw > 52) bad(s"invalid format e${ew}m$mw")
     val format = FloatFormat(ew, mw)
-    val packed = field("packed") match { case 0 => false; case 1 => true; case v => bad(s"packed flag $v is not 0 or 1") }
-    val slot = try MemoryLayout.slotBytes(format, packed) catch { case e: MapmError => bad(e.getMessage) }
-    if (field("slot") != slot) bad(s"slot size ${field("slot")} does not match format $format ($slot)")
-    val (n, nq, ns) = (field("nodes"), field("queries"), field("stream_entries"))
-    if (n > Int.MaxValue || nq > Int.MaxValue || ns != nq) bad(s"inconsistent counts: $n nodes, $nq queries, $ns stream entries")
+    val layout = SlotLayout.ofCode(field("layout")).getOrElse(bad(s"layout code ${field("layout")} is not ${SlotLayout.all.map(_.code).mkString(" or ")}"))
+    val slot = MemoryLayout.slotBytes(format, layout)
+    if (field("slot") != slot) bad(s"slot size ${field("slot")} does not match format $format in the $layout layout ($slot)")
+    val (n, nq) = (field("nodes"), field("queries"))
+    if (n > Int.MaxValue || nq > Int.MaxValue) bad(s"counts out of range: $n nodes, $nq queries")
     val h = field("h") & format.mask
-    val shape = new MemoryImage(format, packed, h, new Array[Long](n.toInt), new Array[Int](n.toInt), Array.fill(8)(new Array[Long](n.toInt)),
+    val shape = new MemoryImage(format, layout, h, new Array[Long](n.toInt), new Array[Int](n.toInt), Array.fill(8)(new Array[Long](n.toInt)),
       Array.fill(3)(new Array[Long](nq.toInt)), new Array[Int](nq.toInt), Array.fill(3)(new Array[Long](nq.toInt)), new Array[Int](nq.toInt))
     for ((f, want, what) <- Seq(("photon_base", shape.photonBase, "photon"), ("query_base", shape.queryBase, "query"),
                                 ("stream_base", shape.streamBase, "stream"), ("total_bytes", shape.totalBytes, "total size")))
@@ -160,7 +159,7 @@ object MemoryImage {
     import r._
     val mask = format.mask
     for (i <- 0 until shape.nodeCount) {
-      val at = shape.nodeBase + nodeR.bytes.toLong * i
+      val at = shape.nodeBase + shape.nodeBytes.toLong * i
       shape.nodeSplit(i) = nodeR.get(b, at, nodeSplitF) & mask
       val w = nodeR.get(b, at, nodeWordF).toInt
       if (NodeWord.axis(w) > 2) bad(s"node $i has axis field 3")

@@ -3,63 +3,98 @@ package mapm.format
 import mapm.MapmError
 import mapm.model.FloatFormat
 
+/** How format values sit in the image's records: each value in a slot of 2, 4 or 8 bytes (its
+  * bits zero-extended), the smallest that holds the format and is at least `minSlot`.
+  * [[SlotLayout.Packed]] (the default) packs 16-bit formats into 2-byte slots; [[SlotLayout.Wide]]
+  * keeps them in 4-byte slots, so that the two can be compared on one design. */
+sealed abstract class SlotLayout(val name: String, val code: Int, val minSlot: Int) {
+  /** The slot size for `format`. */
+  def slotBytes(format: FloatFormat): Int = MemoryLayout.SlotSizes.find(s => s >= minSlot && 8 * s >= format.width).get
+  override def toString: String = name
+}
+
+object SlotLayout {
+  /** The smallest slot of 2, 4 or 8 bytes: the layout the hardware reads by default. */
+  case object Packed extends SlotLayout("packed", 0, 2)
+  /** Slots of at least 4 bytes, whatever the format. */
+  case object Wide extends SlotLayout("wide", 1, 4)
+
+  val all: Seq[SlotLayout] = Seq(Packed, Wide)
+
+  /** The layout named `text`; a [[MapmError]] for any other name. */
+  def parse(text: String): SlotLayout =
+    all.find(_.name == text).getOrElse(MapmError.fail(s"layout '$text': expected ${all.map(_.name).mkString(" or ")}"))
+
+  /** The layout of header code `code`, if any. */
+  def ofCode(code: Long): Option[SlotLayout] = all.find(_.code == code)
+}
+
 /** The records of the memory image the MAPM reads (docs/memory-layout.md), defined once: the
   * image writer and reader ([[mapm.format.MemoryImage]]), the hardware's record bundles and
   * addresses, and the harness's generated header all take sizes and offsets from here.
   *
-  * Format values sit in slots of `slot` bytes (the value's bits zero-extended): 4 bytes for
-  * formats up to 32 bits, or 2 bytes (the packed layout) for formats up to 16 bits.
+  * Format values sit in slots of `slot` bytes ([[SlotSizes]]; [[SlotLayout]] picks one per
+  * format). Every record is a power of two of bytes, so an array index shifted left is a record's
+  * offset and a cache line holds whole records.
   */
 object MemoryLayout {
-  /** Every array of the image starts at a multiple of this many bytes (the L2 line size). */
+  /** Every array of the image starts at a multiple of this many bytes (the L2 line size). A cache
+    * line of at most this size never reaches past the end of an array's aligned span. */
   val Alignment = 64
   val Magic = "MAPMIMG1"
-  val Version = 1
+  val Version = 2
+  /** The slot sizes a layout may use, in bytes. */
+  val SlotSizes: Seq[Int] = Seq(2, 4, 8)
 
-  /** The 64-byte image header. */
+  /** The 64-byte image header. `h` is the kernel radius, format bits zero-extended to 8 bytes. */
   val header: Record = Record("image", 64, Seq(
     Field("magic", 0, 8), Field("version", 8, 2), Field("exp_width", 10, 1), Field("man_width", 11, 1),
-    Field("packed", 12, 1), Field("slot", 13, 1), Field("nodes", 16, 4), Field("queries", 20, 4),
-    Field("stream_entries", 24, 4), Field("h", 28, 4), Field("photon_base", 32, 8), Field("query_base", 40, 8),
+    Field("layout", 12, 1), Field("slot", 13, 1), Field("nodes", 16, 4), Field("queries", 20, 4),
+    Field("h", 24, 8), Field("photon_base", 32, 8), Field("query_base", 40, 8),
     Field("stream_base", 48, 8), Field("total_bytes", 56, 8)))
 
-  /** A KD node record: the split value in a 4-byte slot in every layout, and the node word
-    * ([[mapm.model.NodeWord]]). The node array starts right after the header. */
-  val node: Record = Record("node", 8, Seq(Field("split", 0, 4), Field("word", 4, 4)))
+  private def checkSlot(slot: Int): Unit =
+    MapmError.check(SlotSizes.contains(slot), s"memory layout: no records for $slot-byte slots (${SlotSizes.mkString(", ")})")
+
+  /** A KD node record: the split value (in at least 4 bytes), then the node word
+    * ([[mapm.model.NodeWord]]): 8 bytes for slots up to 4 bytes, 16 for 8-byte slots. The node
+    * array starts right after the header. */
+  def node(slot: Int): Record = {
+    checkSlot(slot)
+    val split = slot max 4
+    Record("node", 2 * split, Seq(Field("split", 0, split), Field("word", split, 4)))
+  }
 
   /** Photon record fields, in record order. */
   val PhotonFields: Seq[String] = Seq("x", "y", "z", "power_r", "power_g", "power_b", "kernel", "brdf")
 
   /** A photon record: eight slots. */
-  def photon(slot: Int): Record = Record("photon", 8 * slot, Record.run(PhotonFields, 0, slot))
+  def photon(slot: Int): Record = { checkSlot(slot); Record("photon", 8 * slot, Record.run(PhotonFields, 0, slot)) }
 
   /** A query record: the contribution (the part the hardware reads, `queryHwBytes`), then the
     * position and the pixel index for the host. */
-  def query(slot: Int): Record = slot match {
-    case 4 => Record("query", 32, Record.run(Seq("contrib_r", "contrib_g", "contrib_b"), 0, 4) ++
-      Record.run(Seq("x", "y", "z"), 16, 4) :+ Field("pixel", 28, 4))
-    case 2 => Record("query", 16, Record.run(Seq("contrib_r", "contrib_g", "contrib_b"), 0, 2) ++
-      Record.run(Seq("x", "y", "z"), 6, 2) :+ Field("pixel", 12, 4))
-    case s => MapmError.fail(s"memory layout: no query record for $s-byte slots")
+  def query(slot: Int): Record = {
+    checkSlot(slot)
+    val contrib = Record.run(Seq("contrib_r", "contrib_g", "contrib_b"), 0, slot)
+    slot match {
+      case 2 => Record("query", 16, contrib ++ Record.run(Seq("x", "y", "z"), 6, 2) :+ Field("pixel", 12, 4))
+      case s => Record("query", 8 * s, contrib ++ Record.run(Seq("x", "y", "z"), 4 * s, s) :+ Field("pixel", 7 * s, 4))
+    }
   }
 
   /** Bytes at the start of a query record that the hardware reads (its SOQ cache word): the
-    * contribution and, unpacked, the zero word after it. */
-  def queryHwBytes(slot: Int): Int = 16
+    * contribution rounded up to a power of two (with 2-byte slots that takes in position x). */
+  def queryHwBytes(slot: Int): Int = { checkSlot(slot); Integer.highestOneBit(3 * slot) * 2 }
 
   /** A query-stream entry: the position the host feeds with the query, and its index. */
-  def stream(slot: Int): Record = Record("stream", 16, Record.run(Seq("x", "y", "z"), 0, slot) :+ Field("query", 12, 4))
-
-  /** Slot size in bytes for `format`; a [[MapmError]] for formats the records cannot hold. */
-  def slotBytes(format: FloatFormat, packed: Boolean): Int = {
-    MapmError.check(format.width <= 32,
-      s"memory image: format $format is ${format.width} bits wide; records hold formats of at most 32 bits")
-    if (packed) {
-      MapmError.check(format.width <= 16,
-        s"memory image: the packed layout needs a format of at most 16 bits; $format is ${format.width} bits wide")
-      2
-    } else 4
+  def stream(slot: Int): Record = {
+    checkSlot(slot)
+    val bytes = (4 * slot) max 16
+    Record("stream", bytes, Record.run(Seq("x", "y", "z"), 0, slot) :+ Field("query", bytes - 4, 4))
   }
+
+  /** Slot size in bytes for `format` in `layout`. */
+  def slotBytes(format: FloatFormat, layout: SlotLayout): Int = layout.slotBytes(format)
 
   /** `a` rounded up to the next multiple of [[Alignment]]. */
   def align(a: Long): Long = (a + Alignment - 1) / Alignment * Alignment

@@ -1,6 +1,7 @@
 package mapm.params
 
 import chisel3.util.isPow2
+import mapm.format.{MemoryLayout, SlotLayout}
 import mapm.model.FloatFormat
 
 /** The colour channels of a photon's power, a query's contribution and a shader operation's
@@ -59,7 +60,6 @@ final case class NumberParams(
     format: FloatFormat = FloatFormat.fp32, // float format of positions, h, split values, power, ...
     guardDigits: Int = 3                    // extra online digits in the SOA (0 = the dissertation's design)
 ) {
-  require(format.width <= 32, s"formats wider than 32 bits do not fit the 32-bit memory slots, got $format")
   require(guardDigits >= 0 && guardDigits <= 8, s"guard digits must be 0..8, got $guardDigits")
 }
 
@@ -82,7 +82,8 @@ final case class QueueParams(
 final case class MemoryParams(
     dataBytes: Int = 16,      // bytes per response beat
     maxOutstanding: Int = 64, // requests in flight at once on the memory port (the outermost MemArbiter's limit)
-    addressBits: Int = 32     // byte address width
+    addressBits: Int = 32,    // byte address width
+    layout: SlotLayout = SlotLayout.Packed // format slots of the memory records: packed (2, 4 or 8 bytes) or wide (at least 4)
 ) {
   require(dataBytes >= 4 && isPow2(dataBytes), s"memory data width must be a power of two of at least 4 bytes, got $dataBytes")
   require(maxOutstanding >= 1, s"outstanding-request limit must be at least 1, got $maxOutstanding")
@@ -107,7 +108,21 @@ final case class MapmParams(
     memory: MemoryParams = MemoryParams(),   // memory port
     indices: IndexParams = IndexParams()     // index widths
 ) {
+  /** Bytes of a format slot in the memory records: the format's in the configured layout. */
+  def slotBytes: Int = memory.layout.slotBytes(numbers.format)
+  /** The memory records the hardware reads, at [[slotBytes]]. */
+  def records: Records = new Records(slotBytes)
+
   require(caches.tsL1.lineBytes <= caches.tsL2.lineBytes, "TS L1 line must not be longer than the TS L2 line")
+  for ((name, c) <- Seq("TS L1" -> caches.tsL1, "TS L2" -> caches.tsL2, "SOQ" -> caches.soq, "SOP L1" -> caches.sopL1, "SOP L2" -> caches.sopL2))
+    require(c.lineBytes <= MemoryLayout.Alignment,
+      s"$name line of ${c.lineBytes} bytes is longer than the memory image's ${MemoryLayout.Alignment}-byte array alignment: a line read could reach past an array")
+  require(caches.tsL1.lineBytes >= records.node.bytes,
+    s"TS L1 line of ${caches.tsL1.lineBytes} bytes is shorter than a ${records.node.bytes}-byte node record ($slotBytes-byte slots)")
+  require(caches.soq.lineBytes >= records.queryHwBytes,
+    s"SOQ line of ${caches.soq.lineBytes} bytes is shorter than the ${records.queryHwBytes} bytes of a query record it reads ($slotBytes-byte slots)")
+  require(caches.sopL1.lineBytes >= records.photon.bytes,
+    s"SOP L1 line of ${caches.sopL1.lineBytes} bytes is shorter than a ${records.photon.bytes}-byte photon record ($slotBytes-byte slots)")
   require(caches.sopL1.lineBytes <= caches.sopL2.lineBytes, "SOP L1 line must not be longer than the SOP L2 line")
   require(queues.registerQueueDepth >= indices.nodeBits + 4,
     s"Register queue depth ${queues.registerQueueDepth} must exceed the tree-depth reserve: at least ${indices.nodeBits + 4} for ${indices.nodeBits}-bit node indices")
@@ -125,8 +140,12 @@ final case class MapmParams(
     g.copy(sizeBytes = size)
   }
 
-  /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`. */
-  def name: String = s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}"
+  /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
+    * wide layout gives the format larger slots than the packed one. */
+  def name: String = {
+    val wide = if (slotBytes != SlotLayout.Packed.slotBytes(numbers.format)) "_wide" else ""
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide"
+  }
 }
 
 object MapmParams {
@@ -148,16 +167,23 @@ object MapmParams {
   /** The default configuration: 16/16/2 at fp32, the dissertation's best throughput per area. */
   val default: MapmParams = table48(16, 16, 2)
 
-  /** The configuration a command line asks for: module counts, format and guard digits, and
-    * optionally the queue sizes; everything else as [[table48]] sizes it. A broken constraint is a
-    * one-line [[mapm.MapmError]] naming it, not an exception. */
+  /** The configuration a command line asks for: module counts, format, guard digits and memory
+    * layout, and optionally the queue sizes; everything else as [[table48]] sizes it, with every
+    * cache line at least as long as the record it holds (a 64-byte photon record of 8-byte slots
+    * takes 64-byte SOP L1 lines). A broken constraint is a one-line [[mapm.MapmError]] naming
+    * it, not an exception. */
   def of(tsm: Int, som: Int, soa: Int, format: FloatFormat, g: Int,
-         registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None): MapmParams =
+         registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None, layout: SlotLayout = SlotLayout.Packed): MapmParams =
     try {
       require(tsm >= 1 && som >= 1 && soa >= 1, s"module counts must be at least 1, got $tsm/$som/$soa")
       val base = table48(tsm, som, soa)
+      val r = new Records(layout.slotBytes(format))
+      def fit(c: CacheParams, bytes: Int) = if (c.lineBytes >= bytes) c else c.copy(lineBytes = bytes)
       base.copy(
         numbers = NumberParams(format, g),
+        memory = base.memory.copy(layout = layout),
+        caches = base.caches.copy(tsL1 = fit(base.caches.tsL1, r.node.bytes), soq = fit(base.caches.soq, r.queryHwBytes),
+          sopL1 = fit(base.caches.sopL1, r.photon.bytes)),
         queues = base.queues.copy(registerQueueDepth = registerQueueDepth.getOrElse(base.queues.registerQueueDepth),
           rsEntries = rsEntries.getOrElse(base.queues.rsEntries)))
     } catch {

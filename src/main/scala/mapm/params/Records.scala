@@ -10,21 +10,29 @@ import mapm.model.NodeWord
   * word's bits from [[mapm.model.NodeWord]]; each bundle checks at elaboration that it matches them.
   * Records are little-endian (the field at byte 0 is bits 0 and up) and a bundle's last field is
   * its least significant one, so every bundle declares its fields from the record's end down.
+  *
+  * @param slot bytes of a format slot ([[MapmParams.slotBytes]]: the format's in the configured
+  *             [[mapm.format.SlotLayout]])
   */
-object Records {
-  /** Bytes of a format slot in the records the hardware reads. The packed 2-byte layout is read
-    * by the model only. */
-  val SlotBytes = 4
-
+final class Records(val slot: Int) {
   /** The node record. */
-  def node: Layout = MemoryLayout.node
-  /** The photon record of the hardware's slots. */
-  def photon: Layout = MemoryLayout.photon(SlotBytes)
-  /** The query record of the hardware's slots. */
-  def query: Layout = MemoryLayout.query(SlotBytes)
+  val node: Layout = MemoryLayout.node(slot)
+  /** The photon record. */
+  val photon: Layout = MemoryLayout.photon(slot)
+  /** The query record. */
+  val query: Layout = MemoryLayout.query(slot)
   /** Bytes of a query record the SOQ cache reads. */
-  def queryHwBytes: Int = MemoryLayout.queryHwBytes(SlotBytes)
+  val queryHwBytes: Int = MemoryLayout.queryHwBytes(slot)
+  /** Whether the bytes the SOQ cache reads after the contribution are a reserved gap (zero in a
+    * well-formed image) or, with 2-byte slots, the query's position x (equal in a well-formed
+    * image to the x the host sends with the query). */
+  val queryGapReserved: Boolean = query.fields.forall(f => f.name.startsWith("contrib_") || f.offset >= queryHwBytes)
+  require(queryGapReserved || query.fields.filter(f => !f.name.startsWith("contrib_") && f.offset < queryHwBytes)
+    .map(f => (f.name, f.offset, f.bytes)) == Seq(("x", 3 * slot, queryHwBytes - 3 * slot)),
+    s"the SOQ word of a $slot-byte-slot query record holds a field other than the contribution and position x")
+}
 
+object Records {
   /** log2 of a record's size: an array index shifted left by it is the record's byte offset. */
   def indexShift(r: Layout): Int = {
     require(isPow2(r.bytes), s"${r.name} records are ${r.bytes} bytes; an address is an index shift only for a power of two")
@@ -66,17 +74,20 @@ class NodeWordBits extends Bundle {
     NodeWord.HasRight == NodeWord.HasLeft << 1 && NodeWord.LeftIsLeaf == NodeWord.HasRight << 1 &&
     NodeWord.RightIsLeaf == NodeWord.LeftIsLeaf << 1 && NodeWord.RightShift == axis.getWidth + 4,
     "the node word bundle's bits differ from mapm.model.NodeWord's")
-  Records.requireWidth(this, "node word", Records.node("word").bytes)
+  Records.requireWidth(this, "node word", MemoryLayout.node(4)("word").bytes)
 }
 
-/** A KD node record: the split value in its slot, then the node word. `width` is the format's. */
-class NodeRecord(width: Int) extends Bundle {
+/** A KD node record of `slotBytes`-byte slots: the split value in its field, the node word, and
+  * `pad` (the bytes after the word, none up to 4-byte slots). `width` is the format's. */
+class NodeRecord(slotBytes: Int, width: Int) extends Bundle {
+  private val layout = MemoryLayout.node(slotBytes)
+  val pad = UInt((8 * (layout.bytes - layout("word").end)).W)
   val word = new NodeWordBits
-  val split = new FormatSlot(Records.node("split").bytes, width)
+  val split = new FormatSlot(layout("split").bytes, width)
 
-  Records.requireField(Records.node, "split", 0, split.getWidth / 8)
-  Records.requireField(Records.node, "word", split.getWidth / 8, word.getWidth / 8)
-  Records.requireWidth(this, "node", Records.node.bytes)
+  Records.requireField(layout, "split", 0, split.getWidth / 8)
+  Records.requireField(layout, "word", split.getWidth / 8, word.getWidth / 8)
+  Records.requireWidth(this, "node", layout.bytes)
 }
 
 /** A photon record of `slotBytes`-byte slots, its fields in [[MemoryLayout.PhotonFields]] order:
@@ -101,7 +112,8 @@ class PhotonRecord(slotBytes: Int, width: Int) extends Bundle {
 
 /** The part of a query record the SOQ cache reads ([[MemoryLayout.queryHwBytes]] bytes): the
   * contribution per channel (r, g, b) in `slotBytes`-byte slots, then `rest`, the bytes after
-  * it (zero in the 4-byte layout). `width` is the format's. */
+  * it (a reserved zero gap, or with 2-byte slots position x's slot: [[Records.queryGapReserved]]).
+  * `width` is the format's. */
 class QueryHwRecord(slotBytes: Int, width: Int) extends Bundle {
   private val layout = MemoryLayout.query(slotBytes)
   private val hwBytes = MemoryLayout.queryHwBytes(slotBytes)

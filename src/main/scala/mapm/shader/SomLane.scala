@@ -30,6 +30,7 @@ class SoOp(p: MapmParams) extends Bundle {
 class SomLane(p: MapmParams) extends Module {
   private val fmt = p.numbers.format
   private val w = fmt.width
+  private val records = p.records
   private val n = p.rsPerSoa
   val l1Config: CacheConfig = SomLane.l1Config(p)
   override def desiredName = s"SomLane_${fmt.name}_g${p.numbers.guardDigits}_r$n"
@@ -70,7 +71,7 @@ class SomLane(p: MapmParams) extends Module {
   val rrNext = RegInit(0.U(Pick.bits(n).W))
   private val (want, pick) = Pick.roundRobin(valid.asUInt & ~sent.asUInt, rrNext)
   l1.io.up.req.valid := want
-  l1.io.up.req.bits.addr := io.photonBase + (ops(pick).photon << Records.indexShift(Records.photon))
+  l1.io.up.req.bits.addr := io.photonBase + (ops(pick).photon << Records.indexShift(records.photon))
   l1.io.up.req.bits.id := pick
   l1.io.up.req.bits.len := 0.U
   when(l1.io.up.req.fire) { sent(pick) := true.B; rrNext := Pick.next(pick, n) }
@@ -79,7 +80,7 @@ class SomLane(p: MapmParams) extends Module {
   l1.io.up.resp.ready := true.B
   private val r = l1.io.up.resp
   private val op = ops(r.bits.id)
-  private val photon = r.bits.data.asTypeOf(new PhotonRecord(Records.SlotBytes, w))
+  private val photon = r.bits.data.asTypeOf(new PhotonRecord(records.slot, w))
   when(r.fire) { valid(r.bits.id) := false.B }
   soa.io.in.valid := r.fire
   soa.io.in.bits.px := photon.x.value
@@ -99,7 +100,7 @@ class SomLane(p: MapmParams) extends Module {
   io.issued := r.fire
   // A photon record's slots hold format bits zero-extended: anything above them is a malformed image.
   private val malformed = RegInit(false.B)
-  if (w < 8 * Records.SlotBytes) when(r.fire && photon.slots.map(_.pad.orR).reduce(_ || _)) { malformed := true.B }
+  if (w < 8 * records.slot) when(r.fire && photon.slots.map(_.pad.orR).reduce(_ || _)) { malformed := true.B }
   io.error := l1.io.protocolError || malformed
 
   io.out.valid := soa.io.out.valid
@@ -123,7 +124,7 @@ object SomLane {
   def l1Config(p: MapmParams): CacheConfig = {
     val g = p.sopL1Bank
     val a = p.counts.soaPerSom
-    val record = Records.photon.bytes
+    val record = p.records.photon.bytes
     val interleave = if (isPow2(a) && g.lineBytes == record) a else 1
     CacheConfig(g, wordBytes = record, idBits = Pick.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes,
       interleave = interleave)

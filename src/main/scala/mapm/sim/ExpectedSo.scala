@@ -29,7 +29,7 @@ object ExpectedSo {
             progress: Option[String] = None): Result = {
     MapmError.check(map.format == queries.format, s"expected SOs: photon map (${map.format}) and queries (${queries.format}) differ in format")
     val fmt = map.format
-    ExpectedSoFile.checkFormat(fmt)
+    val codec = new ExpectedSoFile.Codec(fmt)
     val chain = new ShaderChainModel(fmt, g)
     val nq = queries.size
     val chunk = 512
@@ -40,11 +40,11 @@ object ExpectedSo {
     val searchers = ThreadLocal.withInitial(() => new TreeSearcher(map.search))
     Parallel.forRange(chunks, threads, chunk = 1) { c =>
       val (from, until) = (c * chunk, math.min(nq, (c + 1) * chunk))
-      buffers(c) = chunkRecords(map, queries, chain, searchers.get, from, until, tsOps)
+      buffers(c) = chunkRecords(map, queries, chain, codec, searchers.get, from, until, tsOps)
       bar.foreach(_.advance((until - from).toLong))
     }
     bar.foreach(_.finish())
-    val rec = ExpectedSoFile.record.bytes
+    val rec = codec.record.bytes
     val count = buffers.map(_.length.toLong / rec).sum
     val sum = new ExactSum(fmt, 3 * width * height)
     var passing = 0L
@@ -55,12 +55,12 @@ object ExpectedSo {
         for (b <- buffers) {
           out.write(b)
           val r = ByteBuffer.wrap(b).order(ByteOrder.LITTLE_ENDIAN)
-          for (at <- 0 until b.length by rec if ExpectedSoFile.cond(r, at)) {
+          for (at <- 0 until b.length by rec if codec.cond(r, at)) {
             passing += 1
-            val q = ExpectedSoFile.query(r, at)
+            val q = codec.query(r, at)
             val p = queries.pixel(q)
             MapmError.check(p >= 0 && p < width * height, s"query $q: pixel $p outside the ${width}x$height image")
-            for (ch <- 0 until 3) sum.add(3 * p + ch, ExpectedSoFile.colour(r, at, ch))
+            for (ch <- 0 until 3) sum.add(3 * p + ch, codec.colour(r, at, ch))
           }
         }
       } finally out.close()
@@ -69,11 +69,11 @@ object ExpectedSo {
   }
 
   /** The records of queries [from, until), sorted by (query, photon). */
-  private def chunkRecords(map: PhotonMap, queries: QuerySet, chain: ShaderChainModel, searcher: TreeSearcher,
+  private def chunkRecords(map: PhotonMap, queries: QuerySet, chain: ShaderChainModel, codec: ExpectedSoFile.Codec, searcher: TreeSearcher,
                            from: Int, until: Int, tsOps: java.util.concurrent.atomic.AtomicLong): Array[Byte] = {
     val fmt = map.format
     val buf = new java.io.ByteArrayOutputStream()
-    val rec = ByteBuffer.allocate(ExpectedSoFile.record.bytes).order(ByteOrder.LITTLE_ENDIAN)
+    val rec = ByteBuffer.allocate(codec.record.bytes).order(ByteOrder.LITTLE_ENDIAN)
     val colour = new Array[Long](3)
     var ts = 0L
     for (q <- from until until) {
@@ -91,7 +91,7 @@ object ExpectedSo {
         }
         if (CondModel.cond(fmt, queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h))
           flags |= 1 << ExpectedSoFile.CondBit
-        ExpectedSoFile.put(rec, 0, q, i, colour, flags)
+        codec.put(rec, 0, q, i, colour, flags)
         buf.write(rec.array())
       }
     }

@@ -23,7 +23,7 @@ object HarnessHeader {
     val defs = Seq(
       "TSM" -> p.counts.tsm, "SOM" -> p.counts.som, "SOA_PER_SOM" -> p.counts.soaPerSom,
       "OUT_PORTS" -> outs, "EXP_WIDTH" -> fmt.expWidth, "MAN_WIDTH" -> fmt.manWidth,
-      "FORMAT_WIDTH" -> fmt.width, "GUARD_DIGITS" -> p.numbers.guardDigits,
+      "FORMAT_WIDTH" -> fmt.width, "SLOT_BYTES" -> p.slotBytes, "GUARD_DIGITS" -> p.numbers.guardDigits,
       "RQ_DEPTH" -> p.queues.registerQueueDepth, "RS_ENTRIES" -> p.queues.rsEntries, "FETCH_SLOTS" -> p.queues.fetchSlots,
       "TSM_QUERIES" -> p.queues.tsmQueries, "QUERY_FETCHES" -> p.queues.queryFetches,
       "ADDRESS_BITS" -> mem.addressBits, "MEM_DATA_BYTES" -> mem.dataBytes, "MEM_ID_BITS" -> mem.idBits,

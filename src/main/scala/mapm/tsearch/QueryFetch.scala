@@ -7,24 +7,25 @@ import mapm.params.{MapmParams, QueryData, QueryHwRecord, QueryIn, Records, Rgb}
 import mapm.util.Pick
 
 /** The front of the TS block: takes the host's tree-search instructions (query position and
-  * index, 3.2) and reads each query's contribution (r, g, b), the first 16 bytes of its 32-byte
-  * query record, through the SOQ cache, so that the search and every SO it yields carry it
+  * index, 3.2) and reads each query's contribution (r, g, b), the first
+  * [[mapm.format.MemoryLayout.queryHwBytes]] bytes of its query record (16 of 32 with 4-byte
+  * slots), through the SOQ cache, so that the search and every SO it yields carry it
   * (docs/mapm.md, "Where the query data travels"). A record whose padding (the slots' upper bits,
-  * bytes 12..15) is not zero raises the sticky `error`.
+  * and the reserved gap after the contribution) is not zero, or, with 2-byte slots, whose position
+  * x (read with the contribution) is not the x the host sent, raises the sticky `error`.
   *
   * Up to `queryFetches` queries are in flight, each in a slot of its own; a query leaves on `out`
   * once its record has arrived, round-robin among the arrived ones, so a record the memory
   * answers late does not hold back the queries behind it. Record layout
-  * (docs/memory-layout.md): contribution c in the 4-byte slot at byte 4c.
+  * (docs/memory-layout.md): contribution c in the slot at byte c * slot.
   *
   * Latency: SOQ hit latency (3) + 1 cycles from `in` to `out`. Throughput: one query per cycle.
   */
 class QueryFetch(p: MapmParams) extends Module {
   private val n = p.queues.queryFetches
   private val w = p.numbers.format.width
+  private val records = p.records
   val soqConfig: CacheConfig = QueryFetch.soqConfig(p)
-  require(Records.query.fields.forall(f => f.name.startsWith("contrib_") || f.offset >= Records.queryHwBytes),
-    s"QueryFetch checks that the ${Records.queryHwBytes} bytes it reads hold the contribution and zeros, but the query record has another field among them")
   override def desiredName = s"QueryFetch_$n"
 
   val io = IO(new Bundle {
@@ -51,7 +52,7 @@ class QueryFetch(p: MapmParams) extends Module {
   private val room = !valid.asUInt.andR
   io.in.ready := room && soq.io.up.req.ready
   soq.io.up.req.valid := io.in.valid && room
-  soq.io.up.req.bits.addr := io.queryBase + (io.in.bits.q << Records.indexShift(Records.query))
+  soq.io.up.req.bits.addr := io.queryBase + (io.in.bits.q << Records.indexShift(records.query))
   soq.io.up.req.bits.id := tail
   soq.io.up.req.bits.len := 0.U
   when(io.in.fire) {
@@ -63,16 +64,18 @@ class QueryFetch(p: MapmParams) extends Module {
     held(tail).q := io.in.bits.q
   }
   soq.io.up.resp.ready := true.B
-  private val rec = soq.io.up.resp.bits.data.asTypeOf(new QueryHwRecord(Records.SlotBytes, w))
+  private val rec = soq.io.up.resp.bits.data.asTypeOf(new QueryHwRecord(records.slot, w))
   when(soq.io.up.resp.fire) {
     val i = soq.io.up.resp.bits.id
     arrived(i) := true.B
     for (c <- 0 until Rgb.Channels) held(i).contrib(c) := rec.contrib(c).value
   }
-  // The rest of the bytes read must be zero: the slots' upper bits and the bytes after the contribution.
-  private val padding = rec.contrib.filter(_ => w < 8 * Records.SlotBytes).map(_.pad) :+ rec.rest
+  // The slots' upper bits must be zero; the bytes after the contribution too (a reserved gap), or
+  // with 2-byte slots they are position x's slot, which must be the x the host sent.
+  private val padding = rec.contrib.filter(_ => w < 8 * records.slot).map(_.pad)
+  private val restBad = if (records.queryGapReserved) rec.rest.orR else rec.rest =/= held(soq.io.up.resp.bits.id).x.pad(rec.rest.getWidth)
   private val malformed = RegInit(false.B)
-  when(soq.io.up.resp.fire && padding.map(_.orR).reduce(_ || _)) { malformed := true.B }
+  when(soq.io.up.resp.fire && (padding.map(_.orR) :+ restBad).reduce(_ || _)) { malformed := true.B }
   // Arrived queries leave round-robin from the slot after the last one out (records come back in
   // any order; a late one does not hold back the others).
   val rrNext = RegInit(0.U(Pick.bits(n).W))
@@ -87,13 +90,13 @@ class QueryFetch(p: MapmParams) extends Module {
 }
 
 object QueryFetch {
-  /** The SOQ cache: Table 4.2's geometry, the part of a query record the hardware reads (16 bytes) per read, fetched from memory
+  /** The SOQ cache: Table 4.2's geometry, the part of a query record the hardware reads per read, fetched from memory
     * in the port's beats. Every query misses once (its record is read once), so the cache keeps
     * as many misses in flight as there are query fetches (up to its 64 MSHRs): at 100 cycles of
     * memory latency, 4 MSHRs would hold the stream to 0.04 queries per cycle. */
   def soqConfig(p: MapmParams): CacheConfig = {
     val n = p.queues.queryFetches
-    CacheConfig(p.caches.soq, wordBytes = Records.queryHwBytes, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
+    CacheConfig(p.caches.soq, wordBytes = p.records.queryHwBytes, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
       downBytes = p.memory.dataBytes, mshrs = n min 64, targets = n min 64)
   }
 }

@@ -69,6 +69,7 @@ class TsmEvents extends Bundle {
 class Tsm(p: MapmParams) extends Module {
   private val fmt = p.numbers.format
   private val w = fmt.width
+  private val records = p.records
   private val nq = p.queues.tsmQueries
   private val ns = p.queues.fetchSlots
   private val depth = p.queues.registerQueueDepth
@@ -107,7 +108,7 @@ class Tsm(p: MapmParams) extends Module {
   val slotValid = RegInit(VecInit(Seq.fill(ns)(false.B)))
   val slotReady = RegInit(VecInit(Seq.fill(ns)(false.B)))
   val slotOp = Reg(Vec(ns, new TsmOp(p)))
-  val slotRec = Reg(Vec(ns, UInt((8 * Records.node.bytes).W)))
+  val slotRec = Reg(Vec(ns, UInt((8 * records.node.bytes).W)))
   private val freeSlots = ~slotValid.asUInt
   private val freeSlot = PriorityEncoder(freeSlots)
 
@@ -132,7 +133,7 @@ class Tsm(p: MapmParams) extends Module {
   when(newQuery) { table(freeQIdx) := io.query.bits }
 
   l1.io.up.req.valid := take
-  l1.io.up.req.bits.addr := io.cfg.nodeBase + (op.node << Records.indexShift(Records.node))
+  l1.io.up.req.bits.addr := io.cfg.nodeBase + (op.node << Records.indexShift(records.node))
   l1.io.up.req.bits.id := freeSlot
   l1.io.up.req.bits.len := 0.U
   when(take) {
@@ -156,7 +157,7 @@ class Tsm(p: MapmParams) extends Module {
   private val (anyReady, pick) = Pick.roundRobin(readyMask, rrNext)
   private val issue = en && anyReady
   when(issue) { slotValid(pick) := false.B; rrNext := Pick.next(pick, ns) }
-  private val rec = slotRec(pick).asTypeOf(new NodeRecord(w))
+  private val rec = slotRec(pick).asTypeOf(new NodeRecord(records.slot, w))
   private val iop = slotOp(pick)
   private val word = rec.word
   private val axis = word.axis
@@ -221,6 +222,6 @@ object Tsm {
   /** The TS L1 of one TSM: Table 4.2's geometry, one node record per read, one id per fetch slot,
     * whole lines to the TS L2. */
   def l1Config(p: MapmParams): CacheConfig =
-    CacheConfig(p.caches.tsL1, wordBytes = Records.node.bytes, idBits = Pick.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
+    CacheConfig(p.caches.tsL1, wordBytes = p.records.node.bytes, idBits = Pick.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
       downBytes = p.caches.tsL1.lineBytes)
 }

@@ -15,11 +15,19 @@ class MemoryImageSpec extends AnyFunSuite {
     (PhotonMap.build(photons, Box(Vec3.zero, Vec3(50, 40, 60)), f, 3.0), QuerySet.build(queries, f))
   }
 
-  for ((f, packed) <- Seq((FloatFormat.fp32, false), (FloatFormat.fp16, false), (FloatFormat.fp16, true), (FloatFormat.bf16, true), (FloatFormat.fp24, false)))
-    test(s"write -> read -> equal for $f${if (packed) " packed" else ""}") {
+  import SlotLayout.{Packed, Wide}
+  /** Record sizes by slot, as docs/memory-layout.md tabulates them: slot -> (node, photon, query, stream). */
+  private val sizes = Map(2 -> (8, 16, 16, 16), 4 -> (8, 32, 32, 16), 8 -> (16, 64, 64, 32))
+
+  for ((f, layout, slot) <- Seq((FloatFormat.fp32, Packed, 4), (FloatFormat.fp32, Wide, 4), (FloatFormat.fp16, Packed, 2),
+                                (FloatFormat.fp16, Wide, 4), (FloatFormat.bf16, Packed, 2), (FloatFormat(6, 9), Packed, 2),
+                                (FloatFormat.fp24, Packed, 4), (FloatFormat(10, 40), Packed, 8), (FloatFormat.fp64, Packed, 8),
+                                (FloatFormat.fp64, Wide, 8)))
+    test(s"write -> read -> equal for $f $layout ($slot-byte slots)") {
       val (map, queries) = scene(f, 1000, 300, f.width)
       val order = new scala.util.Random(1).shuffle((0 until 300).toList).toArray
-      val img = MemoryImage.from(map, queries, packed, Some(order))
+      val img = MemoryImage.from(map, queries, layout, Some(order))
+      assert(img.slot == slot)
       val file = java.nio.file.Files.createTempFile("mapm", ".img")
       file.toFile.deleteOnExit()
       img.write(file)
@@ -28,7 +36,9 @@ class MemoryImageSpec extends AnyFunSuite {
       assert(java.nio.file.Files.size(file) == img.totalBytes)
       assert(back.nodeSplit.toSeq == map.split.toSeq && back.photon(3).toSeq == map.power(0).toSeq && back.stream.toSeq == order.toSeq)
       for (base <- Seq(img.nodeBase, img.photonBase, img.queryBase, img.streamBase)) assert(base % 64 == 0)
-      assert(img.photonBytes == (if (packed) 16 else 32) && img.queryBytes == (if (packed) 16 else 32))
+      val (node, photon, query, stream) = sizes(slot)
+      assert(img.nodeBytes == node && img.photonBytes == photon && img.queryBytes == query)
+      assert(img.totalBytes == img.streamBase + stream * 300L && img.photonBase == MemoryLayout.align(64 + node * 1000L))
       // one changed field is noticed
       val other = MemoryImage.fromBytes(img.toBytes)
       other.pixel(5) += 1
@@ -44,8 +54,8 @@ class MemoryImageSpec extends AnyFunSuite {
     val bytes = img.toBytes
     val b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
     assert(new String(bytes.take(8), "US-ASCII") == "MAPMIMG1")
-    assert(b.getShort(8) == 1 && b.get(10) == 8 && b.get(11) == 23 && b.get(12) == 0 && b.get(13) == 4)
-    assert(b.getInt(16) == 7 && b.getInt(20) == 1 && b.getInt(24) == 1 && b.getInt(28) == java.lang.Float.floatToIntBits(100f))
+    assert(b.getShort(8) == 2 && b.get(10) == 8 && b.get(11) == 23 && b.get(12) == 0 && b.get(13) == 4)
+    assert(b.getInt(16) == 7 && b.getInt(20) == 1 && b.getLong(24) == java.lang.Float.floatToIntBits(100f))
     // nodes at 64: Table 3.1's tree. Word = axis | hasLeft 4 | hasRight 8 | leftLeaf 16 | rightLeaf 32 | right << 6
     val words = (0 until 7).map(i => b.getInt(64 + 8 * i + 4))
     assert(words == Seq(2 | 4 | 8 | (4 << 6), 0 | 4 | 8 | 16 | 32 | (3 << 6), words(2) & 3, words(3) & 3, 0 | 4 | 8 | 16 | 32 | (6 << 6), words(5) & 3, words(6) & 3))
@@ -69,7 +79,7 @@ class MemoryImageSpec extends AnyFunSuite {
   test("fp16 packed bytes at the documented offsets") {
     val f = FloatFormat.fp16
     val (map, queries) = scene(f, 3, 2, 9)
-    val img = MemoryImage.from(map, queries, packed = true)
+    val img = MemoryImage.from(map, queries, Packed)
     val b = ByteBuffer.wrap(img.toBytes).order(ByteOrder.LITTLE_ENDIAN)
     val pb = img.photonBase.toInt; val qb = img.queryBase.toInt; val sb = img.streamBase.toInt
     for (i <- 0 until 3; (field, k) <- Seq(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).zipWithIndex)
@@ -82,11 +92,32 @@ class MemoryImageSpec extends AnyFunSuite {
     }
   }
 
-  test("formats the records cannot hold, oversized trees and corrupt files are clear errors") {
-    val (m64, q64) = scene(FloatFormat.fp64, 10, 2, 1)
-    assert(intercept[MapmError](MemoryImage.from(m64, q64)).getMessage.contains("at most 32 bits"))
+  test("fp64 bytes at the documented offsets: 16-byte nodes, 64-byte photons and queries, 32-byte stream entries") {
+    val f = FloatFormat.fp64
+    val (map, queries) = scene(f, 5, 3, 4)
+    val img = MemoryImage.from(map, queries, Packed)
+    val b = ByteBuffer.wrap(img.toBytes).order(ByteOrder.LITTLE_ENDIAN)
+    assert(b.getShort(8) == 2 && b.get(10) == 11 && b.get(11) == 52 && b.get(12) == 0 && b.get(13) == 8)
+    assert(b.getLong(24) == java.lang.Double.doubleToLongBits(3.0) && b.getInt(16) == 5 && b.getInt(20) == 3)
+    val pb = img.photonBase.toInt; val qb = img.queryBase.toInt; val sb = img.streamBase.toInt
+    assert(pb == 192 && qb == pb + 5 * 64 && sb == qb + 3 * 64 && img.totalBytes == sb + 3 * 32)
+    for (i <- 0 until 5) {
+      assert(b.getLong(64 + 16 * i) == map.split(i) && b.getInt(64 + 16 * i + 8) == NodeWord.all(map.tree)(i) && b.getInt(64 + 16 * i + 12) == 0)
+      for ((field, k) <- Seq(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).zipWithIndex)
+        assert(b.getLong(pb + 64 * i + 8 * k) == field(i))
+    }
+    for (q <- 0 until 3) {
+      for (c <- 0 until 3) assert(b.getLong(qb + 64 * q + 8 * c) == queries.contribution(c)(q))
+      assert(b.getLong(qb + 64 * q + 24) == 0)
+      assert(Seq(32, 40, 48).map(o => b.getLong(qb + 64 * q + o)) == Seq(queries.qx(q), queries.qy(q), queries.qz(q)))
+      assert(b.getInt(qb + 64 * q + 56) == queries.pixel(q))
+      assert(Seq(0, 8, 16).map(o => b.getLong(sb + 32 * q + o)) == Seq(queries.qx(q), queries.qy(q), queries.qz(q)) && b.getInt(sb + 32 * q + 28) == q)
+    }
+  }
+
+  test("bad layout names, oversized trees and corrupt files are clear errors") {
+    assert(intercept[MapmError](SlotLayout.parse("tight")).getMessage == "layout 'tight': expected packed or wide")
     val (m32, q32) = scene(FloatFormat.fp32, 10, 2, 1)
-    assert(intercept[MapmError](MemoryImage.from(m32, q32, packed = true)).getMessage.contains("at most 16 bits"))
     assert(intercept[MapmError](NodeWord.checkSize(NodeWord.MaxNodes + 1)).getMessage.contains("26-bit right-child index"))
     NodeWord.checkSize(NodeWord.MaxNodes)
     val bytes = MemoryImage.from(m32, q32).toBytes
@@ -97,5 +128,9 @@ class MemoryImageSpec extends AnyFunSuite {
     ByteBuffer.wrap(badRight).order(ByteOrder.LITTLE_ENDIAN).putInt(64 + 4, 4 | 8 | (500 << 6))
     assert(intercept[MapmError](MemoryImage.fromBytes(badRight)).getMessage.contains("right child 500"))
     assert(intercept[MapmError](MemoryImage.read(java.nio.file.Paths.get("/nonexistent/x.img"))).getMessage.contains("cannot read"))
+    val badLayout = bytes.clone(); badLayout(12) = 2
+    assert(intercept[MapmError](MemoryImage.fromBytes(badLayout)).getMessage.contains("layout code 2"))
+    val badSlot = bytes.clone(); badSlot(13) = 2
+    assert(intercept[MapmError](MemoryImage.fromBytes(badSlot)).getMessage.contains("slot size 2 does not match format fp32 in the packed layout (4)"))
   }
 }

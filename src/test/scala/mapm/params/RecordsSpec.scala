@@ -12,46 +12,52 @@ import org.scalatest.funsuite.AnyFunSuite
 
 /** The record bundles of one slot size and format width, decoded from raw record bits. */
 class DecodedRecords(slot: Int, width: Int) extends Bundle {
-  val node = new NodeRecord(width)
+  val node = new NodeRecord(slot, width)
   val photon = new PhotonRecord(slot, width)
   val query = new QueryHwRecord(slot, width)
+}
+
+/** Raw record bits of one slot size: a node record, a photon record and the SOQ part of a query record. */
+class RawRecords(slot: Int) extends Bundle {
+  val node = UInt((8 * MemoryLayout.node(slot).bytes).W)
+  val photon = UInt((8 * MemoryLayout.photon(slot).bytes).W)
+  val query = UInt((8 * MemoryLayout.queryHwBytes(slot)).W)
 }
 
 /** Decodes the raw bits of a node record, a photon record and the SOQ part of a query record with
   * `.asTypeOf`, once per (slot bytes, format width) of `configs`. Combinational. */
 class RecordDecoder(configs: Seq[(Int, Int)]) extends Module {
-  val nodeRaw = IO(Input(UInt((8 * MemoryLayout.node.bytes).W)))
-  val photonRaw = IO(Input(Vec(configs.size, UInt((8 * MemoryLayout.photon(4).bytes).W))))
-  val queryRaw = IO(Input(UInt((8 * MemoryLayout.queryHwBytes(4)).W)))
+  val raw = IO(Input(MixedVec(configs.map { case (s, _) => new RawRecords(s) })))
   val out = IO(Output(MixedVec(configs.map { case (s, w) => new DecodedRecords(s, w) })))
-  for ((d, i) <- out.zipWithIndex) {
-    d.node := nodeRaw.asTypeOf(d.node)
-    d.photon := photonRaw(i).asTypeOf(d.photon)
-    d.query := queryRaw.asTypeOf(d.query)
+  for ((d, r) <- out.zip(raw)) {
+    d.node := r.node.asTypeOf(d.node)
+    d.photon := r.photon.asTypeOf(d.photon)
+    d.query := r.query.asTypeOf(d.query)
   }
 }
 
 /** The record bundles against the memory layout and the model's node word: records are built
   * byte by byte through [[MemoryLayout]]'s fields, and every bundle field must read back what was
-  * written (format bits in `value`, the slot's upper bits in `pad`). */
+  * written (format bits in `value`, the slot's upper bits in `pad`), for every slot size. */
 class RecordsSpec extends AnyFunSuite with Sim {
-  private val configs = Seq((4, 32), (4, 16), (2, 16))
+  private val configs = Seq((4, 32), (4, 16), (2, 16), (2, 12), (8, 64), (8, 51))
   private val rnd = new scala.util.Random(20240607)
 
   private def buffer(bytes: Int) = ByteBuffer.allocate(bytes).order(ByteOrder.LITTLE_ENDIAN)
   /** The little-endian value of `b`'s bytes `from until to`. */
   private def bits(b: ByteBuffer, from: Int, to: Int): BigInt =
     (from until to).foldRight(BigInt(0))((i, acc) => (acc << 8) | (b.get(i) & 0xff))
-  private def randomSlot(slot: Int): Long = rnd.nextLong() & ((1L << (8 * slot)) - 1)
+  private def randomSlot(bytes: Int): Long = if (bytes == 8) rnd.nextLong() else rnd.nextLong() & ((1L << (8 * bytes)) - 1)
+  private def unsigned(v: Long): BigInt = BigInt(v) & ((BigInt(1) << 64) - 1)
   private def check(slot: FormatSlot, width: Int, written: Long): Unit = {
-    assert(slot.value.peek().litValue == BigInt(written & ((1L << width) - 1)))
-    assert(slot.pad.getWidth == 0 || slot.pad.peek().litValue == BigInt(written >>> width))
+    assert(slot.value.peek().litValue == (unsigned(written) & ((BigInt(1) << width) - 1)))
+    assert(slot.pad.getWidth == 0 || slot.pad.peek().litValue == unsigned(written) >> width)
   }
 
   test("bundle widths are the records' sizes") {
-    assert((new NodeRecord(32)).getWidth == 8 * MemoryLayout.node.bytes)
-    assert((new NodeWordBits).getWidth == 8 * MemoryLayout.node("word").bytes)
+    assert((new NodeWordBits).getWidth == 8 * MemoryLayout.node(4)("word").bytes)
     for ((s, w) <- configs) {
+      assert((new NodeRecord(s, w)).getWidth == 8 * MemoryLayout.node(s).bytes)
       assert((new PhotonRecord(s, w)).getWidth == 8 * MemoryLayout.photon(s).bytes)
       assert((new QueryHwRecord(s, w)).getWidth == 8 * MemoryLayout.queryHwBytes(s))
     }
@@ -60,31 +66,29 @@ class RecordsSpec extends AnyFunSuite with Sim {
   test("record bundles decode random records written through MemoryLayout") {
     simulate(new RecordDecoder(configs)) { c =>
       for (_ <- 0 until 300) {
-        val node = buffer(MemoryLayout.node.bytes)
-        val split = randomSlot(MemoryLayout.node("split").bytes)
-        val word = rnd.nextInt()
-        MemoryLayout.node.put(node, 0, "split", split)
-        MemoryLayout.node.put(node, 0, "word", word.toLong)
-        c.nodeRaw.poke(bits(node, 0, MemoryLayout.node.bytes).U)
+        for ((((s, w), d), r) <- configs.zip(c.out).zip(c.raw)) {
+          val nodeLayout = MemoryLayout.node(s)
+          val node = buffer(nodeLayout.bytes)
+          val split = randomSlot(nodeLayout("split").bytes)
+          val word = rnd.nextInt()
+          nodeLayout.put(node, 0, "split", split)
+          nodeLayout.put(node, 0, "word", word.toLong)
+          r.node.poke(bits(node, 0, nodeLayout.bytes).U)
 
-        val queries = configs.map { case (s, _) =>
-          val layout = MemoryLayout.query(s)
-          val q = buffer(layout.bytes)
-          val v = layout.fields.map(f => f.name -> randomSlot(f.bytes)).toMap
-          for ((f, x) <- v) layout.put(q, 0, f, x)
-          (q, v)
-        }
-        val photons = configs.map { case (s, _) =>
-          val layout = MemoryLayout.photon(s)
-          val b = buffer(MemoryLayout.photon(4).bytes)
-          val v = MemoryLayout.PhotonFields.map(f => f -> randomSlot(s)).toMap
-          for ((f, x) <- v) layout.put(b, 0, f, x)
-          (b, v)
-        }
-        for (i <- configs.indices) c.photonRaw(i).poke(bits(photons(i)._1, 0, MemoryLayout.photon(4).bytes).U)
+          val photonLayout = MemoryLayout.photon(s)
+          val photon = buffer(photonLayout.bytes)
+          val pv = MemoryLayout.PhotonFields.map(f => f -> randomSlot(s)).toMap
+          for ((f, x) <- pv) photonLayout.put(photon, 0, f, x)
+          r.photon.poke(bits(photon, 0, photonLayout.bytes).U)
 
-        for ((((s, w), d), i) <- configs.zip(c.out).zipWithIndex) {
+          val queryLayout = MemoryLayout.query(s)
+          val query = buffer(queryLayout.bytes)
+          val qv = queryLayout.fields.map(f => f.name -> randomSlot(f.bytes)).toMap
+          for ((f, x) <- qv) queryLayout.put(query, 0, f, x)
+          r.query.poke(bits(query, 0, MemoryLayout.queryHwBytes(s)).U)
+
           check(d.node.split, w, split)
+          assert(d.node.pad.getWidth == 8 * (nodeLayout.bytes - nodeLayout("word").end) && (d.node.pad.getWidth == 0 || d.node.pad.peek().litValue == 0))
           val nw = d.node.word
           assert(nw.axis.peek().litValue == NodeWord.axis(word))
           assert(nw.hasLeft.peek().litToBoolean == ((word & NodeWord.HasLeft) != 0))
@@ -93,20 +97,21 @@ class RecordsSpec extends AnyFunSuite with Sim {
           assert(nw.rightIsLeaf.peek().litToBoolean == ((word & NodeWord.RightIsLeaf) != 0))
           assert(nw.right.peek().litValue == NodeWord.right(word))
 
-          val pv = photons(i)._2
           val ph = d.photon
           val byName = Seq("x" -> ph.x, "y" -> ph.y, "z" -> ph.z, "power_r" -> ph.power(0), "power_g" -> ph.power(1),
             "power_b" -> ph.power(2), "kernel" -> ph.kernel, "brdf" -> ph.brdf)
           assert(byName.map(_._1) == MemoryLayout.PhotonFields)
           for ((f, slotField) <- byName) check(slotField, w, pv(f))
 
-          // The query decoders of every config share one input: poke this config's record and read its own.
-          val (qb, qv) = queries(i)
-          c.queryRaw.poke(bits(qb, 0, MemoryLayout.queryHwBytes(4)).U)
           for ((ch, k) <- Rgb.Names.zipWithIndex) check(d.query.contrib(k), w, qv("contrib_" + ch))
-          assert(d.query.rest.peek().litValue == bits(qb, MemoryLayout.query(s)("contrib_b").end, MemoryLayout.queryHwBytes(s)))
+          assert(d.query.rest.peek().litValue == bits(query, queryLayout("contrib_b").end, MemoryLayout.queryHwBytes(s)))
         }
       }
     }
+  }
+
+  test("the query gap after the contribution is reserved except with 2-byte slots, where position x follows") {
+    assert(!new Records(2).queryGapReserved && new Records(4).queryGapReserved && new Records(8).queryGapReserved)
+    assert(MemoryLayout.query(2)("x").offset == 6 && MemoryLayout.queryHwBytes(2) == 8)
   }
 }

@@ -2,7 +2,7 @@ package mapm.sim
 
 import java.nio.file.{Files, Path, Paths}
 
-import mapm.format.{ExpectedSoFile, MemoryImage}
+import mapm.format.{ExpectedSoFile, MemoryImage, SlotLayout}
 import mapm.model.FloatFormat
 import mapm.params.MapmParams
 import org.scalatest.funsuite.AnyFunSuite
@@ -89,7 +89,7 @@ class HarnessSpec extends AnyFunSuite {
     val f = FloatFormat.fp32
     val rnd = new scala.util.Random(7)
     def bits(): Long = randomBits(f, rnd, negative = true) & ~(0xffL << 23) | ((100L + rnd.nextInt(56)) << 23)
-    new MemoryImage(f, false, f.encode(0.5), Array.empty, Array.empty, Array.fill(8)(Array.empty[Long]),
+    new MemoryImage(f, SlotLayout.Packed, f.encode(0.5), Array.empty, Array.empty, Array.fill(8)(Array.empty[Long]),
       Array.fill(3)(Array.fill(nq)(bits())), Array.fill(nq)(rnd.nextInt(width * height)),
       Array.fill(3)(Array.fill(nq)(f.encode(rnd.nextDouble()))), rnd.shuffle((0 until nq).toVector).toArray)
   }

@@ -4,6 +4,7 @@ import java.nio.file.{Files, Path, Paths}
 
 import mapm.Slow
 import mapm.cli.RtlRun
+import mapm.format.SlotLayout
 import mapm.model.{FloatFormat, TestScenes}
 import mapm.params._
 import mapm.sim.{Harness, HarnessStats}
@@ -68,11 +69,19 @@ class MapmRtlSpec extends AnyFunSuite {
       info(s"${seeds.size + 1} runs: ${small.frame.querySet.size} and ${large.frame.querySet.size} queries, ${small.model.count} and ${large.model.count} SOs")
     }
 
-  test("fp16 at 2/2/2: every SO exact under random memory timing") {
-    assume(haveVerilator, "verilator is not on PATH")
-    val prep = RtlRun.prepare(scene("fp16", 6, 5, 3, 300, "100").toString, Some(FloatFormat.fp16), 3, dir.toString, 2)
-    check(prep, MapmParams.of(2, 2, 2, FloatFormat.fp16, 3), stress, Seq(11L, 12L))
-  }
+  // Every slot size: 2-byte (fp16, bf16, e6m9 packed), 4-byte (fp16 wide; fp32 above) and 8-byte (fp64).
+  for ((f, layout, (t, s, a), seeds) <- Seq((FloatFormat.fp16, SlotLayout.Packed, (2, 2, 2), Seq(11L, 12L)),
+                                            (FloatFormat.bf16, SlotLayout.Packed, (1, 1, 2), Seq(18L)),
+                                            (FloatFormat(6, 9), SlotLayout.Packed, (1, 1, 1), Seq(19L)),
+                                            (FloatFormat.fp16, SlotLayout.Wide, (1, 1, 1), Seq(20L)),
+                                            (FloatFormat.fp64, SlotLayout.Packed, (1, 1, 1), Seq(21L))))
+    test(s"${f.name} $layout at $t/$s/$a: every SO exact under random memory timing, the frame bit-equal") {
+      assume(haveVerilator, "verilator is not on PATH")
+      val prep = RtlRun.prepare(scene(s"${f.name}-$layout", 6, 5, 3, 300, "100").toString, Some(f), 3, dir.toString, 2, layout)
+      val p = MapmParams.of(t, s, a, f, 3, layout = layout)
+      assert(p.slotBytes == layout.slotBytes(f) && prep.model.count > 100)
+      check(prep, p, stress, seeds)
+    }
 
   test("Register-queue extreme: h beyond the scene, every node yields two children, a minimal bank; never overflows") {
     assume(haveVerilator, "verilator is not on PATH")
