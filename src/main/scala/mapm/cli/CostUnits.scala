@@ -112,7 +112,7 @@ object CostUnits {
       case Some(f) => FrameOps.shaderOps(f.map, f.querySet, n)
       case None => IndexedSeq.fill(n)(FrameOps.So(Array.fill(15)(randomBits())))
     }
-    def b(x: Long): BigInt = BigInt(x)
+    def b(x: Long): BigInt = BigInt(x) & ((BigInt(1) << 64) - 1) // a port's bits, unsigned (fp64 values fill the Long)
     def bool(x: Boolean): BigInt = if (x) BigInt(1) else BigInt(0)
     val mask = (1 << tagWidth) - 1
     u.kind match {

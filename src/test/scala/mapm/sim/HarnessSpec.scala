@@ -73,12 +73,15 @@ class HarnessSpec extends AnyFunSuite {
   private val (width, height) = (8, 6)
   private val nq = 300
 
-  private lazy val exe: Path = {
-    val dir = Harness.root.resolve("target/harness-test/stub")
+  private lazy val exe: Path = stubExe(None)
+
+  /** The harness built on a [[HarnessStub]] (reading query 7's record at `stray` when given). */
+  private def stubExe(stray: Option[Long]): Path = {
+    val top = HarnessStub.name(params, stray)
+    val dir = Harness.root.resolve(s"target/harness-test/$top")
     Files.createDirectories(dir)
     Files.list(dir).forEach(p => Files.delete(p))
-    val top = s"HarnessStub_${params.name}"
-    Emit.toFile(new HarnessStub(params), dir, s"$top.sv")
+    Emit.toFile(new HarnessStub(params, stray), dir, s"$top.sv")
     Files.write(dir.resolve("mapm_config.h"), HarnessHeader(params, top).getBytes("UTF-8"))
     Harness.build(dir, top)
   }
@@ -104,12 +107,13 @@ class HarnessSpec extends AnyFunSuite {
     path
   }
 
-  private def run(name: String, recs: Seq[(Int, Int, Seq[Long], Boolean)], opts: Harness.RunOptions): Harness.Outcome = {
+  private def run(name: String, recs: Seq[(Int, Int, Seq[Long], Boolean)], opts: Harness.RunOptions,
+                  harness: => Path = exe): Harness.Outcome = {
     assume(verilatorPresent, "verilator is not on PATH: the harness tests need it")
     val dir = Harness.root.resolve(s"target/harness-test/$name")
     Files.createDirectories(dir)
     val img = dir.resolve("image.bin"); image.write(img)
-    Harness.run(exe, img, writeExpected(dir.resolve("expected.bin"), recs), dir, opts)
+    Harness.run(harness, img, writeExpected(dir.resolve("expected.bin"), recs), dir, opts)
   }
 
   test("harness: every SO checked, exact frame, stats (stand-in top, 100-cycle memory)") {
@@ -154,5 +158,15 @@ class HarnessSpec extends AnyFunSuite {
     assert(!o3.passed && o3.verdict.contains("unexpected SO (q=40, photon=0)"), o3.verdict)
     val o4 = run("watchdog", recs, Harness.RunOptions(maxCycles = 500))
     assert(!o4.passed && o4.verdict.contains("watchdog: --max-cycles 500 reached"), o4.verdict)
+  }
+
+  test("harness: a read outside the node, photon and query arrays FAILs (the DRAM model checks every request's range)") {
+    // Stubs that read query 7's record from the header, from the query stream (which only the
+    // host reads) and from beyond the image.
+    for (addr <- Seq(0L, image.streamBase, image.totalBytes + 1024)) {
+      val o = run(s"stray$addr", stubRecords, Harness.RunOptions(seed = 9), stubExe(Some(addr)))
+      assert(!o.passed && o.verdict == s"FAIL seed=9: memory protocol: a read of 32 bytes at 0x${addr.toHexString} is outside " +
+        s"the node, photon and query arrays of the ${image.totalBytes}-byte image", o.verdict)
+    }
   }
 }

@@ -10,9 +10,10 @@ import mapm.params.{MapmConfig, MapmCounters, MapmParams, QueryIn, SoResult}
   * reports one SO on port q mod ports: photon q mod 5, colour = the record's contribution bits,
   * flags 0, cond = (q mod 3 != 0). One query at a time. Of the counters it drives `cycles`,
   * `queries`, `tsOps` (= queries), `stallQuery` (cycles waiting for memory) and `soq_misses`
-  * (= queries); the others stay 0. */
-class HarnessStub(p: MapmParams) extends Module {
-  override def desiredName = s"HarnessStub_${p.name}"
+  * (= queries); the others stay 0. With `stray`, query 7's record is read from that byte address
+  * instead: a faulty top, for the harness's address-range check. */
+class HarnessStub(p: MapmParams, stray: Option[Long] = None) extends Module {
+  override def desiredName = HarnessStub.name(p, stray)
   private val ports = p.counts.som * p.counts.soaPerSom
   private val w = p.numbers.format.width
   val io = IO(new Bundle {
@@ -36,6 +37,7 @@ class HarnessStub(p: MapmParams) extends Module {
   when(io.query.fire) { q := io.query.bits.q; state := sReq; queries := queries + 1.U }
   io.mem.req.valid := state === sReq
   io.mem.req.bits.addr := io.cfg.queryBase + (q << 5)
+  for (a <- stray) when(q === 7.U) { io.mem.req.bits.addr := a.U }
   io.mem.req.bits.id := 5.U
   io.mem.req.bits.len := 1.U
   when(io.mem.req.fire) { state := sResp; beat := 0.U }
@@ -64,4 +66,9 @@ class HarnessStub(p: MapmParams) extends Module {
   io.counters.tsOps := queries
   io.counters.stallQuery := waits
   io.counters.soq_misses := queries
+}
+
+object HarnessStub {
+  /** The stub's module name for `p` and `stray`. */
+  def name(p: MapmParams, stray: Option[Long]): String = s"HarnessStub_${p.name}${stray.map(a => s"_stray$a").getOrElse("")}"
 }
