@@ -45,6 +45,9 @@ object EmitCommand extends Command {
     println(f"wrote $file and ${dir.resolve("mapm_config.h")} ($top: ${p.counts.label}, format ${p.numbers.format} in ${p.slotBytes}-byte slots, g = $g) in $secs%.1f s")
     println(s"  ${sv.linesIterator.size} lines of SystemVerilog, ${SvStats.registerBits(sv, Some(top))} flip-flops " +
       s"(memory arrays not counted), ${p.counts.som * p.counts.soaPerSom} result ports")
+    val units = for (unit <- Seq("TSA", "SOA"); m <- SvStats.modules(sv).find(_.startsWith(unit + "_")))
+      yield s"$unit ($m) ${SvStats.registerBits(sv, Some(m))}"
+    println(s"  flip-flops per ${units.mkString(", per ")}")
     0
   }
 

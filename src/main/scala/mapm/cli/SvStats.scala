@@ -6,6 +6,9 @@ object SvStats {
   private val regRe = """(?m)^\s*reg\s+(?:\[(\d+):(\d+)\]\s*)?(\w+)\s*;""".r
   private val instRe = """(?m)^\s+(\w+)\s+\w+\s*\(""".r
 
+  /** The names of the modules defined in `sv`, in text order. */
+  def modules(sv: String): Seq[String] = moduleRe.findAllMatchIn(sv).map(_.group(1)).toSeq
+
   /** Flip-flop bits of the module `top` (default: the last module in the text), counting every
     * `reg` declaration of each module once per instance in the hierarchy. */
   def registerBits(sv: String, top: Option[String] = None): Long = {

@@ -35,7 +35,7 @@ final class MemoryImage(
 
   val nodeCount: Int = nodeWord.length
   val queryCount: Int = pixel.length
-  val slot: Int = MemoryLayout.slotBytes(format, layout)
+  val slot: Int = layout.slotBytes(format)
   private val records = new Records(slot)
   val nodeBytes: Int = records.nodeR.bytes
   val photonBytes: Int = records.photonR.bytes
@@ -144,7 +144,7 @@ object MemoryImage {
     if (ew < 2 || ew > 11 || mw < 1 || mw > 52) bad(s"invalid format e${ew}m$mw")
     val format = FloatFormat(ew, mw)
     val layout = SlotLayout.ofCode(field("layout")).getOrElse(bad(s"layout code ${field("layout")} is not ${SlotLayout.all.map(_.code).mkString(" or ")}"))
-    val slot = MemoryLayout.slotBytes(format, layout)
+    val slot = layout.slotBytes(format)
     if (field("slot") != slot) bad(s"slot size ${field("slot")} does not match format $format in the $layout layout ($slot)")
     val (n, nq) = (field("nodes"), field("queries"))
     if (n > Int.MaxValue || nq > Int.MaxValue) bad(s"counts out of range: $n nodes, $nq queries")

@@ -93,9 +93,6 @@ object MemoryLayout {
     Record("stream", bytes, Record.run(Seq("x", "y", "z"), 0, slot) :+ Field("query", bytes - 4, 4))
   }
 
-  /** Slot size in bytes for `format` in `layout`. */
-  def slotBytes(format: FloatFormat, layout: SlotLayout): Int = layout.slotBytes(format)
-
   /** `a` rounded up to the next multiple of [[Alignment]]. */
   def align(a: Long): Long = (a + Alignment - 1) / Alignment * Alignment
 }

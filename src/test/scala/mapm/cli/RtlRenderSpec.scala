@@ -12,7 +12,7 @@ import org.scalatest.funsuite.AnyFunSuite
 @Slow
 class RtlRenderSpec extends AnyFunSuite {
   private def haveVerilator: Boolean =
-    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
+    mapm.testutil.HostTools.onPath("verilator")
 
   private lazy val scene: Path = {
     val dir = Paths.get("target/rtl-render-test")

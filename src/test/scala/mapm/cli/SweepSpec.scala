@@ -11,7 +11,7 @@ import org.scalatest.funsuite.AnyFunSuite
 @Slow
 class SweepSpec extends AnyFunSuite {
   test("sweep 1/1/1,2/1/2 of a tiny frame through the RTL: CSV rows, speed-up, charts") {
-    assume(sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator"))),
+    assume(mapm.testutil.HostTools.onPath("verilator"),
       "verilator is not on PATH")
     val dir = Paths.get("target/sweep-test")
     Files.createDirectories(dir)

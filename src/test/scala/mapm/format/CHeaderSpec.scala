@@ -13,8 +13,7 @@ import scala.sys.process._
 class CHeaderSpec extends AnyFunSuite {
   private val dir = Paths.get("target/format-test")
 
-  private lazy val gppPresent: Boolean =
-    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "g++")))
+  private lazy val gppPresent: Boolean = mapm.testutil.HostTools.onPath("g++")
 
   private val reader =
     """#include <cinttypes>
@@ -73,13 +72,7 @@ class CHeaderSpec extends AnyFunSuite {
   private lazy val exe: Path = {
     Files.createDirectories(dir)
     Files.write(dir.resolve("mapm_formats.h"), CHeader.formats.getBytes("UTF-8"))
-    Files.write(dir.resolve("reader.cpp"), reader.getBytes("UTF-8"))
-    val out = dir.resolve("reader")
-    val log = new StringBuilder
-    val rc = Seq("g++", "-std=c++17", "-Wall", "-Werror", "-I", dir.toString, "-o", out.toString, dir.resolve("reader.cpp").toString)
-      .!(ProcessLogger(l => log.append(l).append('\n')))
-    assert(rc == 0, s"g++ failed on the generated header:\n$log")
-    out
+    mapm.testutil.HostTools.gpp(dir, "reader", reader, Seq(dir))
   }
 
   /** What the reader must print for `img` and the expected-SO `so` file contents. */

@@ -231,8 +231,7 @@ class ExactSumSpec extends AnyFunSuite {
 
   private val dir = Paths.get("target/exactsum-test")
 
-  private lazy val gppPresent: Boolean =
-    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "g++")))
+  private lazy val gppPresent: Boolean = mapm.testutil.HostTools.onPath("g++")
 
   /** Reads "sum bits" lines (bits in hex) from stdin into `count` sums of format (ew, mw), then
     * prints each sum's double as the hex of its raw bits. */
@@ -259,16 +258,8 @@ class ExactSumSpec extends AnyFunSuite {
       |}
       |""".stripMargin
 
-  private lazy val exe: Path = {
-    Files.createDirectories(dir)
-    Files.write(dir.resolve("accum_driver.cpp"), driver.getBytes("UTF-8"))
-    val out = dir.resolve("accum_driver")
-    val log = new StringBuilder
-    val rc = Seq("g++", "-std=c++17", "-O2", "-Wall", "-Wextra", "-Werror", "-I", Paths.get("tools/harness").toAbsolutePath.toString,
-      "-o", out.toString, dir.resolve("accum_driver.cpp").toString).!(ProcessLogger(l => log.append(l).append('\n')))
-    assert(rc == 0, s"g++ failed on tools/harness/accum.h:\n$log")
-    out
-  }
+  private lazy val exe: Path =
+    mapm.testutil.HostTools.gpp(dir, "accum_driver", driver, Seq(Paths.get("tools/harness").toAbsolutePath), Seq("-O2", "-Wextra"))
 
   for (f <- formats)
     test(s"$f: tools/harness/accum.h (g++) gives the doubles of ExactSum, bit for bit") {

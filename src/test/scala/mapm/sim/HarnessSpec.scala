@@ -1,6 +1,6 @@
 package mapm.sim
 
-import java.nio.file.{Files, Path, Paths}
+import java.nio.file.{Files, Path}
 
 import mapm.format.{ExpectedSoFile, MemoryImage, SlotLayout}
 import mapm.model.FloatFormat
@@ -67,7 +67,7 @@ class HarnessSpec extends AnyFunSuite {
   // ---- the harness on the stand-in ----
 
   private lazy val verilatorPresent: Boolean =
-    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
+    mapm.testutil.HostTools.onPath("verilator")
 
   private val params = MapmParams.table48(1, 1, 2)
   private val (width, height) = (8, 6)

@@ -1,6 +1,6 @@
 package mapm.top
 
-import java.nio.file.{Files, Paths}
+import java.nio.file.Files
 
 import mapm.Slow
 import mapm.format.SlotLayout
@@ -17,7 +17,7 @@ import scala.sys.process._
 @Slow
 class MapmLintSpec extends AnyFunSuite {
   private def haveVerilator: Boolean =
-    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
+    mapm.testutil.HostTools.onPath("verilator")
 
   private val configs = Seq(
     MapmParams.of(1, 1, 2, FloatFormat.fp32, 3),

@@ -22,7 +22,7 @@ import org.scalatest.funsuite.AnyFunSuite
 @Slow
 class MapmRtlSpec extends AnyFunSuite {
   private def haveVerilator: Boolean =
-    sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => Files.isExecutable(Paths.get(d, "verilator")))
+    mapm.testutil.HostTools.onPath("verilator")
 
   private val dir = Paths.get("target/mapm-rtl-test")
 
