@@ -30,13 +30,16 @@ class TsaResponse(tagWidth: Int) extends Bundle {
   * Structure (Figure 3.12): [[ShiftAmountLogic]] and three [[ShiftRight]] align the three
   * significands to the largest exponent into words of W = manWidth + 3 bits (hidden bit,
   * mantissa, one guard bit, one sticky bit: the two extra bits make the decisions exact, see
-  * [[mapm.model.TsaModel]]); a register stage; three [[P2S]] turn the words into skewed bit
-  * streams; two W-slice [[PipelinedComparator]]s decide p - h < s (TC_L) and s - h < p (TC_R,
-  * p and s swapped). The valid bit, the tag and the error flag travel beside the slices.
+  * [[mapm.model.TsaModel]]), in two register stages: field extraction, the input check and the
+  * Shift Amount Logic in the first, the three shifts in the second (one stage held all of it, the
+  * unit's critical path); three [[P2S]] turn the words into skewed bit streams; two W-slice
+  * [[PipelinedComparator]]s decide p - h < s (TC_L) and s - h < p (TC_R, p and s swapped). The
+  * valid bit, the tag and the error flag travel beside the slices.
   *
-  * Latency: W + 1 = manWidth + 4 cycles (27 for fp32): one alignment stage and one cycle per
-  * slice; the dissertation's manWidth + 2 has no guard and sticky slices. Throughput: one
-  * operation per cycle, no stalls. `bits` of the output are meaningful only while it is valid.
+  * Latency: W + 2 = manWidth + 5 cycles (28 for fp32): two alignment stages and one cycle per
+  * slice; the dissertation's manWidth + 2 has no guard and sticky slices and one alignment
+  * cycle. Throughput: one operation per cycle, no stalls. `bits` of the output are meaningful
+  * only while it is valid.
   *
   * With `stallable` (the Tree Search Module's use, 3.7) an `en` input freezes the whole pipeline
   * while low: no register changes, the output holds, and `in` is not taken (the driver presents an
@@ -69,7 +72,7 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
       r
     }
 
-  // Stage 0 (combinational): fields, input check, shift amounts, alignment.
+  // Stage 0 (combinational): fields, input check, shift amounts.
   private val operands = Seq(io.in.bits.p, io.in.bits.h, io.in.bits.s)
   private val f = FloatFields(fmt)
   private def invalid(x: UInt) = f.isInfOrNaN(x) || (f.sign(x) && !f.isZero(x)) // infinite or NaN; negative and not zero
@@ -80,13 +83,6 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
   sal.io.se := f.exp(io.in.bits.s)
   private val amounts = Seq(sal.io.sap, sal.io.sah, sal.io.sas)
 
-  val aligned = operands.zip(amounts).map { case (x, si) =>
-    val sr = Module(new ShiftRight(fmt.manWidth + 1 + al.guardBits, fmt.expWidth + 1))
-    sr.io.din := (if (al.guardBits == 0) f.sig(x) else Cat(f.sig(x), 0.U(al.guardBits.W)))
-    sr.io.si := si
-    if (al.sticky) Cat(sr.io.dout, sr.io.sticky) else sr.io.dout
-  }
-
   class Meta extends Bundle {
     val tag = UInt(tagWidth.W)
     val error = Bool()
@@ -94,13 +90,24 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
   val meta = Wire(new Meta)
   meta.tag := io.in.bits.tag
   meta.error := operands.map(invalid).reduce(_ || _)
-
-  // Stage 1: aligned words registered; then bit-serial through P2S into the slices.
-  val alignedReg = aligned.map(RegEnable(_, enable))
   private val entering = Wire(Valid(new Meta))
   entering.valid := io.in.valid
   entering.bits := meta
-  val stage1 = stage(entering, 1)
+
+  // Stage 1: significands and shift amounts registered, then the three shifts.
+  private val sigIn = operands.map(x => if (al.guardBits == 0) f.sig(x) else Cat(f.sig(x), 0.U(al.guardBits.W)))
+  private val sigReg = sigIn.map(RegEnable(_, enable))
+  private val amountReg = amounts.map(RegEnable(_, enable))
+  val aligned = sigReg.zip(amountReg).map { case (sig, si) =>
+    val sr = Module(new ShiftRight(fmt.manWidth + 1 + al.guardBits, fmt.expWidth + 1))
+    sr.io.din := sig
+    sr.io.si := si
+    if (al.sticky) Cat(sr.io.dout, sr.io.sticky) else sr.io.dout
+  }
+
+  // Stage 2: aligned words registered; then bit-serial through P2S into the slices.
+  val alignedReg = aligned.map(RegEnable(_, enable))
+  val alignedMeta = stage(entering, 2)
   val Seq(ps, hs, ss) = alignedReg.map { w =>
     val p2s = Module(new P2S(wordWidth, stallable))
     p2s.io.in := w
@@ -115,7 +122,7 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
   Seq(cmpL, cmpR).foreach(_.io.en.foreach(_ := enable))
 
   // Valid, tag and error beside the slices, leaving with the comparators' last stage.
-  val leaving = stage(stage1, wordWidth)
+  val leaving = stage(alignedMeta, wordWidth)
   io.out.valid := leaving.valid
   io.out.bits.tag := leaving.bits.tag
   io.out.bits.error := leaving.bits.error
