@@ -47,9 +47,9 @@ object TsaModel {
   /** The TSA outputs for one operation. */
   final case class Outcome(tcl: Boolean, tcr: Boolean, error: Boolean)
 
-  /** Cycles from an operation entering the TSA to its outcome: two alignment stages (shift
-    * amounts, then shifts) plus one cycle per comparator slice. */
-  def latency(fmt: FloatFormat, al: Alignment = Alignment.exact): Int = al.wordWidth(fmt) + 2
+  /** Cycles from an operation entering the TSA to its outcome: three alignment stages (exponent
+    * differences; shift amounts; shifts) plus one cycle per comparator slice. */
+  def latency(fmt: FloatFormat, al: Alignment = Alignment.exact): Int = al.wordWidth(fmt) + 3
 
   /** True when `bits` is not a valid TSA input: negative and non-zero, infinite or NaN. */
   def inputError(fmt: FloatFormat, bits: Long): Boolean =

@@ -13,7 +13,9 @@ import chisel3.util._
   * by ~(-k) = k-1 and one additional level of 1, which finishes the two's complement.
   *
   * Outputs are (expWidth+1)-bit two's complement: sign bit set means "shift by the negation".
-  * Combinational (no latency); the case sgn = 111 cannot occur and gives zeros.
+  * Combinational (no latency); the case sgn = 111 cannot occur and gives zeros. The two halves,
+  * [[ShiftAmountLogic.differences]] (the subtractors) and [[ShiftAmountLogic.select]] (Table 3.4),
+  * are also functions, so that a pipeline can register the differences between them (the TSA does).
   */
 class ShiftAmountLogic(expWidth: Int) extends RawModule {
   require(expWidth >= 2, s"exponent width must be at least 2, got $expWidth")
@@ -29,24 +31,34 @@ class ShiftAmountLogic(expWidth: Int) extends RawModule {
     val sas = Output(UInt((expWidth + 1).W))
   })
 
-  // Zero-extended to expWidth+1 bits, the differences wrap to two's complement.
-  private def ext(e: UInt) = Cat(0.U(1.W), e)
-  val d0 = ext(io.pe) - ext(io.he)
-  val d1 = ext(io.he) - ext(io.se)
-  val d2 = ext(io.se) - ext(io.pe)
-  val sgn = Cat(d0(expWidth), d1(expWidth), d2(expWidth)) // sgn0 sgn1 sgn2, Table 3.2
+  private val Seq(sap, sah, sas) = ShiftAmountLogic.select(ShiftAmountLogic.differences(io.pe, io.he, io.se))
+  io.sap := sap
+  io.sah := sah
+  io.sas := sas
+}
 
-  val zero = 0.U((expWidth + 1).W)
-  // Table 3.4: (sap, sah, sas) by (sgn0, sgn1, sgn2).
-  private val pLargest = Seq(zero, d0, d2) // p.e >= h.e, s.e: h by p.e-h.e, s by -(s.e-p.e)
-  private val sLargest = Seq(d2, d1, zero) // s.e largest: p by s.e-p.e, h by -(h.e-s.e)
-  private val hLargest = Seq(d0, zero, d1) // h.e largest: p by -(p.e-h.e), s by h.e-s.e
-  private val allEqual = Seq(zero, zero, zero)
-  private val byCase = Seq(
-    "b000" -> allEqual, "b001" -> pLargest, "b010" -> sLargest, "b011" -> pLargest,
-    "b100" -> hLargest, "b101" -> hLargest, "b110" -> sLargest)
-  private def pick(k: Int): UInt = MuxLookup(sgn, zero)(byCase.map { case (c, outs) => c.U(3.W) -> outs(k) })
-  io.sap := pick(0)
-  io.sah := pick(1)
-  io.sas := pick(2)
+object ShiftAmountLogic {
+  /** The three subtractors: d0 = p.e - h.e, d1 = h.e - s.e, d2 = s.e - p.e, each (expWidth+1)
+    * bits (the exponents zero-extended, the differences wrapping to two's complement). */
+  def differences(pe: UInt, he: UInt, se: UInt): Seq[UInt] = {
+    def ext(e: UInt) = Cat(0.U(1.W), e)
+    Seq(ext(pe) - ext(he), ext(he) - ext(se), ext(se) - ext(pe))
+  }
+
+  /** Table 3.4: the shift amounts (sap, sah, sas) from the differences (d0, d1, d2), chosen by
+    * their sign bits (sgn0 sgn1 sgn2, Table 3.2). */
+  def select(d: Seq[UInt]): Seq[UInt] = {
+    val Seq(d0, d1, d2) = d
+    val w = d0.getWidth
+    val sgn = Cat(d0(w - 1), d1(w - 1), d2(w - 1))
+    val zero = 0.U(w.W)
+    val pLargest = Seq(zero, d0, d2) // p.e >= h.e, s.e: h by p.e-h.e, s by -(s.e-p.e)
+    val sLargest = Seq(d2, d1, zero) // s.e largest: p by s.e-p.e, h by -(h.e-s.e)
+    val hLargest = Seq(d0, zero, d1) // h.e largest: p by -(p.e-h.e), s by h.e-s.e
+    val allEqual = Seq(zero, zero, zero)
+    val byCase = Seq(
+      "b000" -> allEqual, "b001" -> pLargest, "b010" -> sLargest, "b011" -> pLargest,
+      "b100" -> hLargest, "b101" -> hLargest, "b110" -> sLargest)
+    (0 until 3).map(k => MuxLookup(sgn, zero)(byCase.map { case (c, outs) => c.U(3.W) -> outs(k) }))
+  }
 }

@@ -30,13 +30,15 @@ class TsaResponse(tagWidth: Int) extends Bundle {
   * Structure (Figure 3.12): [[ShiftAmountLogic]] and three [[ShiftRight]] align the three
   * significands to the largest exponent into words of W = manWidth + 3 bits (hidden bit,
   * mantissa, one guard bit, one sticky bit: the two extra bits make the decisions exact, see
-  * [[mapm.model.TsaModel]]), in two register stages: field extraction, the input check and the
-  * Shift Amount Logic in the first, the three shifts in the second (one stage held all of it, the
-  * unit's critical path); three [[P2S]] turn the words into skewed bit streams; two W-slice
+  * [[mapm.model.TsaModel]]), in three register stages: field extraction, the input check and the
+  * Shift Amount Logic's subtractors in the first, its selection and the decoding of each amount
+  * into shifter levels in the second, the three shifts in the third (one stage held all of it,
+  * the unit's critical path; docs/cost.md); three [[P2S]] turn the words into skewed bit
+  * streams; two W-slice
   * [[PipelinedComparator]]s decide p - h < s (TC_L) and s - h < p (TC_R, p and s swapped). The
   * valid bit, the tag and the error flag travel beside the slices.
   *
-  * Latency: W + 2 = manWidth + 5 cycles (28 for fp32): two alignment stages and one cycle per
+  * Latency: W + 3 = manWidth + 6 cycles (29 for fp32): three alignment stages and one cycle per
   * slice; the dissertation's manWidth + 2 has no guard and sticky slices and one alignment
   * cycle. Throughput: one operation per cycle, no stalls. `bits` of the output are meaningful
   * only while it is valid.
@@ -72,16 +74,11 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
       r
     }
 
-  // Stage 0 (combinational): fields, input check, shift amounts.
+  // Stage 0 (combinational): fields, input check, the Shift Amount Logic's three subtractors.
   private val operands = Seq(io.in.bits.p, io.in.bits.h, io.in.bits.s)
   private val f = FloatFields(fmt)
   private def invalid(x: UInt) = f.isInfOrNaN(x) || (f.sign(x) && !f.isZero(x)) // infinite or NaN; negative and not zero
-
-  val sal = Module(new ShiftAmountLogic(fmt.expWidth))
-  sal.io.pe := f.exp(io.in.bits.p)
-  sal.io.he := f.exp(io.in.bits.h)
-  sal.io.se := f.exp(io.in.bits.s)
-  private val amounts = Seq(sal.io.sap, sal.io.sah, sal.io.sas)
+  private val differences = ShiftAmountLogic.differences(f.exp(io.in.bits.p), f.exp(io.in.bits.h), f.exp(io.in.bits.s))
 
   class Meta extends Bundle {
     val tag = UInt(tagWidth.W)
@@ -94,20 +91,26 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
   entering.valid := io.in.valid
   entering.bits := meta
 
-  // Stage 1: significands and shift amounts registered, then the three shifts.
+  // Stage 1: significands and differences registered; the Shift Amount Logic's selection (Table
+  // 3.4) and each amount decoded into its shifter's levels.
+  private val sigWidth = fmt.manWidth + 1 + al.guardBits
   private val sigIn = operands.map(x => if (al.guardBits == 0) f.sig(x) else Cat(f.sig(x), 0.U(al.guardBits.W)))
-  private val sigReg = sigIn.map(RegEnable(_, enable))
-  private val amountReg = amounts.map(RegEnable(_, enable))
-  val aligned = sigReg.zip(amountReg).map { case (sig, si) =>
-    val sr = Module(new ShiftRight(fmt.manWidth + 1 + al.guardBits, fmt.expWidth + 1))
+  private val sig1 = sigIn.map(RegEnable(_, enable))
+  private val amounts = ShiftAmountLogic.select(differences.map(RegEnable(_, enable)))
+  private val dist = amounts.map(si => ShiftRight.decode(si, sigWidth, fmt.expWidth + 1))
+
+  // Stage 2: significands and decoded distances registered, then the three shifts.
+  private val sig2 = sig1.map(RegEnable(_, enable))
+  val aligned = sig2.zip(dist.map(RegEnable(_, enable))).map { case (sig, dist) =>
+    val sr = Module(new ShiftRight(sigWidth, fmt.expWidth + 1))
     sr.io.din := sig
-    sr.io.si := si
+    sr.io.dist := dist
     if (al.sticky) Cat(sr.io.dout, sr.io.sticky) else sr.io.dout
   }
 
-  // Stage 2: aligned words registered; then bit-serial through P2S into the slices.
+  // Stage 3: aligned words registered; then bit-serial through P2S into the slices.
   val alignedReg = aligned.map(RegEnable(_, enable))
-  val alignedMeta = stage(entering, 2)
+  val alignedMeta = stage(entering, 3)
   val Seq(ps, hs, ss) = alignedReg.map { w =>
     val p2s = Module(new P2S(wordWidth, stallable))
     p2s.io.in := w

@@ -15,10 +15,19 @@ class ShiftUnitsSpec extends AnyFunSuite with Sim {
     val io = IO(chiselTypeOf(u.io))
     io <> u.io
   }
+  /** [[ShiftRight.decode]] of a negative-form amount `si`, then the shifter. */
   class ShiftRightHarness(w: Int, a: Int) extends Module {
     val u = Module(new ShiftRight(w, a))
-    val io = IO(chiselTypeOf(u.io))
-    io <> u.io
+    val io = IO(new Bundle {
+      val din = Input(UInt(w.W))
+      val si = Input(UInt(a.W))
+      val dout = Output(UInt(w.W))
+      val sticky = Output(Bool())
+    })
+    u.io.din := io.din
+    u.io.dist := ShiftRight.decode(io.si, w, a)
+    io.dout := u.io.dout
+    io.sticky := u.io.sticky
   }
 
   /** The distance a negative-form amount stands for: its absolute value. */
