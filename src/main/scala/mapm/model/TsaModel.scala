@@ -47,9 +47,10 @@ object TsaModel {
   /** The TSA outputs for one operation. */
   final case class Outcome(tcl: Boolean, tcr: Boolean, error: Boolean)
 
-  /** Cycles from an operation entering the TSA to its outcome: three alignment stages (exponent
-    * differences; shift amounts; shifts) plus one cycle per comparator slice. */
-  def latency(fmt: FloatFormat, al: Alignment = Alignment.exact): Int = al.wordWidth(fmt) + 3
+  /** Cycles from an operation entering the TSA to its outcome: four alignment stages (exponent
+    * differences; shift amounts; the shifters' upper levels; their lower levels) plus one cycle
+    * per comparator slice. */
+  def latency(fmt: FloatFormat, al: Alignment = Alignment.exact): Int = al.wordWidth(fmt) + 4
 
   /** True when `bits` is not a valid TSA input: negative and non-zero, infinite or NaN. */
   def inputError(fmt: FloatFormat, bits: Long): Boolean =

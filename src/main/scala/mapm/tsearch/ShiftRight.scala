@@ -25,6 +25,11 @@ class ShiftDistance(val levels: Int) extends Bundle {
   * `sticky` is the OR of every bit shifted out (it lets the TSA keep the comparison exact; see
   * `mapm.model.TsaModel`).
   *
+  * The shifter is two halves, [[ShiftRight.coarse]] (the upper levels and the whole-word case)
+  * and [[ShiftRight.fine]] (the lower levels and the additional level); this module joins them
+  * without a register (and is what ShiftUnitsSpec checks exhaustively), the TSA registers between
+  * them.
+  *
   * Combinational (no latency).
   */
 class ShiftRight(width: Int, amountWidth: Int) extends RawModule {
@@ -40,22 +45,49 @@ class ShiftRight(width: Int, amountWidth: Int) extends RawModule {
     val sticky = Output(Bool())
   })
 
-  private val sd = io.dist.level
-  val (shifted, lostInLevels) = (0 until io.dist.levels).foldLeft((io.din, false.B)) { case ((v, lost), i) =>
-    val k = 1 << i
-    (Mux(sd(i), v >> k, v), lost || (sd(i) && v(k - 1, 0).orR))
-  }
-  val beforeExtra = Mux(io.dist.allOut, 0.U(width.W), shifted)
-  val lostBeforeExtra = Mux(io.dist.allOut, io.din.orR, lostInLevels)
+  private val coarse = ShiftRight.coarse(io.din, io.dist, 0)
+  private val (dout, sticky) = ShiftRight.fine(coarse, Nil, io.dist.extra)
+  io.dout := dout
+  io.sticky := sticky
+}
 
-  // The additional level: one more position when the amount came in negative form.
-  io.dout := Mux(io.dist.extra, beforeExtra >> 1, beforeExtra)
-  io.sticky := lostBeforeExtra || (io.dist.extra && beforeExtra(0))
+/** A word part-way through [[ShiftRight]]: shifted by the levels from `from` up, with `lost` set
+  * when a 1 bit has been shifted out. A pipeline can register it between the two halves. */
+class ShiftPartial(width: Int) extends Bundle {
+  val word = UInt(width.W)
+  val lost = Bool()
 }
 
 object ShiftRight {
   /** Levels that shift by less than the width (2^i for i below it). */
   def levels(width: Int, amountWidth: Int): Int = math.min(log2Ceil(width), amountWidth - 1)
+
+  /** The first half of the shifter: `din` shifted by the levels of `dist` from `from` up, or
+    * cleared when the distance reaches the whole word. Combinational. */
+  def coarse(din: UInt, dist: ShiftDistance, from: Int): ShiftPartial = {
+    val (shifted, lost) = (from until dist.levels).foldLeft((din, false.B)) { case ((v, lost), i) =>
+      val k = 1 << i
+      (Mux(dist.level(i), v >> k, v), lost || (dist.level(i) && v(k - 1, 0).orR))
+    }
+    val p = Wire(new ShiftPartial(din.getWidth))
+    p.word := Mux(dist.allOut, 0.U, shifted)
+    p.lost := Mux(dist.allOut, din.orR, lost)
+    p
+  }
+
+  /** The second half: the word of [[coarse]]`(din, dist, from)` shifted by the levels below
+    * `from` (`lower`: the distance's level bits 0 until `from`), then by the additional level
+    * (`extra`); the shifted word and the sticky bit. With `from` = 0 (`lower` empty) it is only
+    * the additional level. Combinational. */
+  def fine(p: ShiftPartial, lower: Seq[Bool], extra: Bool): (UInt, Bool) = {
+    val start = (p.word, p.lost)
+    val (shifted, lost) = lower.zipWithIndex.foldLeft(start) { case ((v, lost), (bit, i)) =>
+      val k = 1 << i
+      (Mux(bit, v >> k, v), lost || (bit && v(k - 1, 0).orR))
+    }
+    // The additional level: one more position when the amount came in negative form.
+    (Mux(extra, shifted >> 1, shifted), lost || (extra && shifted(0)))
+  }
 
   /** The [[ShiftDistance]] of the negative-form amount `si` (`amountWidth` bits) for a
     * `width`-bit word. Combinational. */

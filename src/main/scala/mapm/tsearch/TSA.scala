@@ -30,15 +30,16 @@ class TsaResponse(tagWidth: Int) extends Bundle {
   * Structure (Figure 3.12): [[ShiftAmountLogic]] and three [[ShiftRight]] align the three
   * significands to the largest exponent into words of W = manWidth + 3 bits (hidden bit,
   * mantissa, one guard bit, one sticky bit: the two extra bits make the decisions exact, see
-  * [[mapm.model.TsaModel]]), in three register stages: field extraction, the input check and the
+  * [[mapm.model.TsaModel]]), in four register stages: field extraction, the input check and the
   * Shift Amount Logic's subtractors in the first, its selection and the decoding of each amount
-  * into shifter levels in the second, the three shifts in the third (one stage held all of it,
-  * the unit's critical path; docs/cost.md); three [[P2S]] turn the words into skewed bit
-  * streams; two W-slice
+  * into shifter levels in the second, the three Shift Right units' upper levels in the third
+  * ([[ShiftRight.coarse]]) and their lower and additional levels in the fourth
+  * ([[ShiftRight.fine]]) (one stage held all of it, the unit's critical path; docs/cost.md);
+  * three [[P2S]] turn the words into skewed bit streams; two W-slice
   * [[PipelinedComparator]]s decide p - h < s (TC_L) and s - h < p (TC_R, p and s swapped). The
   * valid bit, the tag and the error flag travel beside the slices.
   *
-  * Latency: W + 3 = manWidth + 6 cycles (29 for fp32): three alignment stages and one cycle per
+  * Latency: W + 4 = manWidth + 7 cycles (30 for fp32): four alignment stages and one cycle per
   * slice; the dissertation's manWidth + 2 has no guard and sticky slices and one alignment
   * cycle. Throughput: one operation per cycle, no stalls. `bits` of the output are meaningful
   * only while it is valid.
@@ -99,18 +100,19 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
   private val amounts = ShiftAmountLogic.select(differences.map(RegEnable(_, enable)))
   private val dist = amounts.map(si => ShiftRight.decode(si, sigWidth, fmt.expWidth + 1))
 
-  // Stage 2: significands and decoded distances registered, then the three shifts.
-  private val sig2 = sig1.map(RegEnable(_, enable))
-  val aligned = sig2.zip(dist.map(RegEnable(_, enable))).map { case (sig, dist) =>
-    val sr = Module(new ShiftRight(sigWidth, fmt.expWidth + 1))
-    sr.io.din := sig
-    sr.io.dist := dist
-    if (al.sticky) Cat(sr.io.dout, sr.io.sticky) else sr.io.dout
+  // Stage 2: significands and decoded distances registered; the Shift Right units' upper levels.
+  // Stage 3: the partly shifted words registered; their lower levels and the additional level.
+  private val split = dist.head.levels / 2
+  private val dist2 = dist.map(RegEnable(_, enable))
+  private val partial = sig1.map(RegEnable(_, enable)).zip(dist2).map { case (sig, d) => RegEnable(ShiftRight.coarse(sig, d, split), enable) }
+  val aligned = partial.zip(dist2).map { case (p, d) =>
+    val (word, sticky) = ShiftRight.fine(p, (0 until split).map(i => RegEnable(d.level(i), enable)), RegEnable(d.extra, enable))
+    if (al.sticky) Cat(word, sticky) else word
   }
 
-  // Stage 3: aligned words registered; then bit-serial through P2S into the slices.
+  // Stage 4: aligned words registered; then bit-serial through P2S into the slices.
   val alignedReg = aligned.map(RegEnable(_, enable))
-  val alignedMeta = stage(entering, 3)
+  val alignedMeta = stage(entering, 4)
   val Seq(ps, hs, ss) = alignedReg.map { w =>
     val p2s = Module(new P2S(wordWidth, stallable))
     p2s.io.in := w

@@ -117,7 +117,7 @@ class TsaCommandsSpec extends AnyFunSuite {
   test("emit-tsa: names the module after the format and tag width; bad widths are one clear error") {
     val d = tmp()
     val (rc, out) = runCmd(EmitTsaCommand, "--exp", "5", "--man", "10", "--tag-width", "3", "--out", d.toString)
-    assert(rc == 0 && out.contains("latency 16 cycles"), out)
+    assert(rc == 0 && out.contains("latency 17 cycles"), out)
     val sv = read(d.resolve("TSA_e5m10_t3.sv")).mkString("\n")
     assert(sv.contains("module TSA_e5m10_t3("))
     assert(intercept[MapmError](EmitTsaCommand.run(Seq("--exp", "1"))).getMessage.contains("exponent width"))

@@ -35,7 +35,7 @@ class TSASpec extends AnyFunSuite with Sim {
     val v = TsaReference.allValid(fmt)
     val ops = for (p <- v; h <- v; s <- v) yield Op(p, h, s)
     simulate(new TSA(fmt, tagWidth = 5)) { c =>
-      assert(c.latency == fmt.manWidth + 6)
+      assert(c.latency == fmt.manWidth + 7)
       val cycles = checkAll(c, fmt, 5, ops)
       assert(cycles == ops.length + c.latency, "one operation per cycle")
       info(s"${ops.length} operations in $cycles cycles (latency ${c.latency})")
@@ -57,7 +57,7 @@ class TSASpec extends AnyFunSuite with Sim {
     assert(gappy.count(o => exact(fmt, o).error) > 1000, "the invalid inputs must be exercised")
 
     simulate(new TSA(fmt, tagWidth = 8)) { c =>
-      assert(c.latency == 29)
+      assert(c.latency == 30)
       val cycles = checkAll(c, fmt, 8, random)
       assert(cycles == random.length + c.latency, "one operation per cycle")
 
