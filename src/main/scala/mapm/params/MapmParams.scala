@@ -111,7 +111,7 @@ final case class MapmParams(
   /** Bytes of a format slot in the memory records: the format's in the configured layout. */
   def slotBytes: Int = memory.layout.slotBytes(numbers.format)
   /** The memory records the hardware reads, at [[slotBytes]]. */
-  def records: Records = new Records(slotBytes)
+  lazy val records: Records = new Records(slotBytes)
 
   require(caches.tsL1.lineBytes <= caches.tsL2.lineBytes, "TS L1 line must not be longer than the TS L2 line")
   for ((name, c) <- Seq("TS L1" -> caches.tsL1, "TS L2" -> caches.tsL2, "SOQ" -> caches.soq, "SOP L1" -> caches.sopL1, "SOP L2" -> caches.sopL2))

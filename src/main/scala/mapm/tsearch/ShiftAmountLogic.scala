@@ -13,30 +13,10 @@ import chisel3.util._
   * by ~(-k) = k-1 and one additional level of 1, which finishes the two's complement.
   *
   * Outputs are (expWidth+1)-bit two's complement: sign bit set means "shift by the negation".
-  * Combinational (no latency); the case sgn = 111 cannot occur and gives zeros. The two halves,
-  * [[ShiftAmountLogic.differences]] (the subtractors) and [[ShiftAmountLogic.select]] (Table 3.4),
-  * are also functions, so that a pipeline can register the differences between them (the TSA does).
+  * Combinational: two pieces, [[differences]] (the subtractors) and [[select]] (Table 3.4), so
+  * that a pipeline can register the differences between them (the TSA does); the case sgn = 111
+  * cannot occur and gives zeros. ShiftUnitsSpec checks the two together exhaustively.
   */
-class ShiftAmountLogic(expWidth: Int) extends RawModule {
-  require(expWidth >= 2, s"exponent width must be at least 2, got $expWidth")
-  override def desiredName = s"ShiftAmountLogic_e$expWidth"
-
-  val io = IO(new Bundle {
-    val pe = Input(UInt(expWidth.W))
-    val he = Input(UInt(expWidth.W))
-    val se = Input(UInt(expWidth.W))
-    /** Shift amounts for p, h, s in the negative-form encoding above. */
-    val sap = Output(UInt((expWidth + 1).W))
-    val sah = Output(UInt((expWidth + 1).W))
-    val sas = Output(UInt((expWidth + 1).W))
-  })
-
-  private val Seq(sap, sah, sas) = ShiftAmountLogic.select(ShiftAmountLogic.differences(io.pe, io.he, io.se))
-  io.sap := sap
-  io.sah := sah
-  io.sas := sas
-}
-
 object ShiftAmountLogic {
   /** The three subtractors: d0 = p.e - h.e, d1 = h.e - s.e, d2 = s.e - p.e, each (expWidth+1)
     * bits (the exponents zero-extended, the differences wrapping to two's complement). */

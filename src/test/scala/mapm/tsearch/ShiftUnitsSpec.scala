@@ -9,25 +9,28 @@ import org.scalatest.funsuite.AnyFunSuite
 /** The alignment units, exhaustively against plain integer references. */
 @Slow
 class ShiftUnitsSpec extends AnyFunSuite with Sim {
-  /** chiseltest drives Modules; these wrappers expose the combinational RawModules. */
+  /** [[ShiftAmountLogic.differences]] then [[ShiftAmountLogic.select]], as the TSA uses them. */
   class SalHarness(e: Int) extends Module {
-    val u = Module(new ShiftAmountLogic(e))
-    val io = IO(chiselTypeOf(u.io))
-    io <> u.io
+    val io = IO(new Bundle {
+      val pe, he, se = Input(UInt(e.W))
+      val sap, sah, sas = Output(UInt((e + 1).W))
+    })
+    private val Seq(p, h, s) = ShiftAmountLogic.select(ShiftAmountLogic.differences(io.pe, io.he, io.se))
+    io.sap := p; io.sah := h; io.sas := s
   }
-  /** [[ShiftRight.decode]] of a negative-form amount `si`, then the shifter. */
-  class ShiftRightHarness(w: Int, a: Int) extends Module {
-    val u = Module(new ShiftRight(w, a))
+  /** [[ShiftRight.decode]] of a negative-form amount `si`, [[ShiftRight.coarse]] from level `split`
+    * up and [[ShiftRight.fine]] below it, combinationally (the TSA registers between them). */
+  class ShiftRightHarness(w: Int, a: Int, split: Int) extends Module {
     val io = IO(new Bundle {
       val din = Input(UInt(w.W))
       val si = Input(UInt(a.W))
       val dout = Output(UInt(w.W))
       val sticky = Output(Bool())
     })
-    u.io.din := io.din
-    u.io.dist := ShiftRight.decode(io.si, w, a)
-    io.dout := u.io.dout
-    io.sticky := u.io.sticky
+    private val d = ShiftRight.decode(io.si, w, a)
+    private val (dout, sticky) = ShiftRight.fine(ShiftRight.coarse(io.din, d, split), (0 until split).map(d.level(_)), d.extra)
+    io.dout := dout
+    io.sticky := sticky
   }
 
   /** The distance a negative-form amount stands for: its absolute value. */
@@ -48,16 +51,16 @@ class ShiftUnitsSpec extends AnyFunSuite with Sim {
     }
   }
 
-  test("ShiftRight: every word and amount (width 6, 4-bit and 5-bit amounts), negative form and sticky") {
-    for ((w, a) <- Seq((6, 4), (5, 5))) {
-      simulate(new ShiftRightHarness(w, a)) { c =>
+  test("ShiftRight: every word and amount (width 6, 4-bit and 5-bit amounts) at every split, negative form and sticky") {
+    for ((w, a) <- Seq((6, 4), (5, 5)); split <- 0 to ShiftRight.levels(w, a)) {
+      simulate(new ShiftRightHarness(w, a, split)) { c =>
         for (din <- 0 until (1 << w); si <- 0 until (1 << a)) {
           c.io.din.poke(din.U); c.io.si.poke(si.U)
           val d = distance(si, a)
           val want = if (d >= w) 0 else din >> d
           val lost = if (d >= w) din != 0 else (din & ((1 << d) - 1)) != 0
-          c.io.dout.expect(want.U, s"w=$w din=$din si=$si (distance $d)")
-          c.io.sticky.expect(lost.B, s"sticky w=$w din=$din si=$si")
+          c.io.dout.expect(want.U, s"w=$w split=$split din=$din si=$si (distance $d)")
+          c.io.sticky.expect(lost.B, s"sticky w=$w split=$split din=$din si=$si")
         }
       }
     }
