@@ -4,7 +4,7 @@ import java.nio.file.{Files, Path, Paths}
 
 import mapm.Slow
 import mapm.cli.RtlRun
-import mapm.format.SlotLayout
+import mapm.format.{MemoryImage, SlotLayout}
 import mapm.model.{FloatFormat, TestScenes}
 import mapm.params._
 import mapm.sim.{Harness, HarnessStats}
@@ -70,16 +70,17 @@ class MapmRtlSpec extends AnyFunSuite {
     }
 
   // Every slot size: 2-byte (fp16, bf16, e6m9 packed), 4-byte (fp16 wide; fp32 above) and 8-byte (fp64).
-  for ((f, layout, (t, s, a), seeds) <- Seq((FloatFormat.fp16, SlotLayout.Packed, (2, 2, 2), Seq(11L, 12L)),
-                                            (FloatFormat.bf16, SlotLayout.Packed, (1, 1, 2), Seq(18L)),
-                                            (FloatFormat(6, 9), SlotLayout.Packed, (1, 1, 1), Seq(19L)),
-                                            (FloatFormat.fp16, SlotLayout.Wide, (1, 1, 1), Seq(20L)),
-                                            (FloatFormat.fp64, SlotLayout.Packed, (1, 1, 1), Seq(21L))))
+  for ((f, layout, slot, (t, s, a), seeds) <- Seq((FloatFormat.fp16, SlotLayout.Packed, 2, (2, 2, 2), Seq(11L, 12L)),
+                                                  (FloatFormat.bf16, SlotLayout.Packed, 2, (1, 1, 2), Seq(18L)),
+                                                  (FloatFormat(6, 9), SlotLayout.Packed, 2, (1, 1, 1), Seq(19L)),
+                                                  (FloatFormat.fp16, SlotLayout.Wide, 4, (1, 1, 1), Seq(20L)),
+                                                  (FloatFormat.fp64, SlotLayout.Packed, 8, (1, 1, 1), Seq(21L))))
     test(s"${f.name} $layout at $t/$s/$a: every SO exact under random memory timing, the frame bit-equal") {
       assume(haveVerilator, "verilator is not on PATH")
       val prep = RtlRun.prepare(scene(s"${f.name}-$layout", 6, 5, 3, 300, "100").toString, Some(f), 3, dir.toString, 2, layout)
       val p = MapmParams.of(t, s, a, f, 3, layout = layout)
-      assert(p.slotBytes == layout.slotBytes(f) && prep.model.count > 100)
+      assert(p.slotBytes == slot && prep.model.count > 100)
+      assert(MemoryImage.read(prep.image).slot == slot, "the image the harness reads has the hardware's slots")
       check(prep, p, stress, seeds)
     }
 
