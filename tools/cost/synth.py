@@ -29,11 +29,14 @@ try:
 except Exception as e:  # pragma: no cover
     die(f"pyosys (yosys) does not import: {e}")
 
-# ABC's buffering script: choice-based mapping for delay, then buffering and gate sizing.
-ABC_BUFFER = "+strash;dch,-f;&get,-n;&nf,{D};&put;buffer;upsize,{D};dnsize,{D};stime,-p"
+# ABC's buffering script: logic synthesis with delay-driven balancing (&syn2, SOP balancing with
+# &if -g, choices with &synch2), mapping for delay (&nf), then buffering of wide fan-outs, primary
+# inputs included (flip-flop outputs are primary inputs to ABC), and gate sizing. Measured against
+# the earlier `strash; dch -f; &nf` start (docs/cost.md): it turns carry and AND chains into trees.
+ABC_BUFFER = "+strash;&get,-n;&st;&syn2;&if,-g,-K,6;&synch2;&nf,{D};&put;buffer,-p;upsize,{D};dnsize,{D};stime,-p"
 
 def lib_cells(lib_path):
-    """The smallest buffer, tie-high and tie-low cells of the library, found by their functions."""
+    """The smallest buffer, inverter, tie-high and tie-low cells of the library, found by their functions."""
     text = open(lib_path).read()
     starts = [m for m in re.finditer(r'\bcell\s*\(\s*"?(\w+)"?\s*\)', text)]
     cells = {}
@@ -47,8 +50,10 @@ def lib_cells(lib_path):
         return sorted([n for n, b in cells.items()
                        if re.search(r'function\s*:\s*"\s*' + pat + r'\s*"', b) and not re.search(r'\b(ff|latch)\s*\(', b)],
                       key=area)
-    bufs, his, los = with_fn(r'\(?\s*A\s*\)?'), with_fn('1'), with_fn('0')
-    return (bufs[0] if bufs else None, his[0] if his else None, los[0] if los else None)
+    bufs, invs = with_fn(r'\(?\s*A\s*\)?'), with_fn(r"\(?\s*(!\s*A|A\s*')\s*\)?")
+    his, los = with_fn('1'), with_fn('0')
+    first = lambda cells: cells[0] if cells else None
+    return (first(bufs), first(invs), first(his), first(los))
 
 def generic(args):
     d = ys.Design()
@@ -68,18 +73,26 @@ def generic(args):
 
 def mapped(d, args, script, out_dir):
     t0 = time.time()
+    buf, inv, hi, lo = lib_cells(args.lib)
     ys.run_pass(f"dfflibmap -liberty {args.lib}", d)
     ys.run_pass("opt_clean", d)
+    # ABC's view of the inputs it maps from: each driven by the library's smallest inverter (a
+    # flip-flop's output stage is about as strong), each output loading 0.01 pF (a few flip-flop
+    # D pins). Without a driving cell ABC takes inputs as ideal and leaves a flip-flop that drives
+    # a whole operand row unbuffered (measured: 12 ns clock-to-Q on a pipeline's valid bit).
+    constr = os.path.join(out_dir, "abc.constr")
+    os.makedirs(out_dir, exist_ok=True)
+    with open(constr, "w") as f:
+        f.write((f"set_driving_cell {inv}\n" if inv else "") + "set_load 0.01\n")
     if script == "plain":
-        ys.run_pass(f"abc -D {args.delay_ps} -liberty {args.lib}", d)
+        ys.run_pass(f"abc -D {args.delay_ps} -constr {constr} -liberty {args.lib}", d)
     else:
         abc = ABC_BUFFER.replace("{D}", f"-D,{args.delay_ps}")
-        ys.run_pass(f"abc -D {args.delay_ps} -liberty {args.lib} -script {abc}", d)
+        ys.run_pass(f"abc -D {args.delay_ps} -constr {constr} -liberty {args.lib} -script {abc}", d)
     ys.run_pass("opt_clean", d)
     ys.run_pass("setundef -zero", d)
     ys.run_pass("splitnets", d)        # no `assign {a, b} = ...` for OpenSTA
     ys.run_pass("opt_clean -purge", d)
-    buf, hi, lo = lib_cells(args.lib)
     if hi and lo:
         ys.run_pass(f"hilomap -hicell {hi} Y -locell {lo} Y", d)
     if buf:

@@ -1,7 +1,7 @@
 package mapm.cli
 
 import mapm.MapmError
-import mapm.fpu.{FAdd, FMul}
+import mapm.fpu.{FAdd, FMul, FpuDepth}
 import mapm.model._
 import mapm.shader.{CondCheck, OnlineDiv, OnlineMul, SOA, ShaderChain}
 import mapm.tsearch.TSA
@@ -60,14 +60,14 @@ object CostUnits {
         IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
         IndexedSeq("io_out_bits_tcl", "io_out_bits_tcr", "io_out_bits_error", "io_out_bits_tag"), TsaRate, rateNote)
     case "cond" =>
-      new CostUnit("cond", s"CondCheck_${format.name}_t$tagWidth", () => new CondCheck(format, tagWidth), CondCheck.latency(),
+      new CostUnit("cond", CondCheck.name(format, tagWidth, FpuDepth.of(format)), () => new CondCheck(format, tagWidth), CondCheck.latency(FpuDepth.of(format)),
         IndexedSeq("qx", "qy", "qz", "px", "py", "pz", "h", "tag").map("io_in_bits_" + _),
         IndexedSeq("io_out_bits_cond", "io_out_bits_tag"), SoaRate, rateNote + ", as the SOA")
     case "fadd" =>
-      new CostUnit("fadd", s"FAdd_${format.name}", () => new FAdd(format), FAdd.stages,
+      new CostUnit("fadd", s"FAdd_${format.name}_s${FAdd.defaultStages(format)}", () => new FAdd(format), FAdd.defaultStages(format),
         IndexedSeq("io_in_bits_a", "io_in_bits_b", "io_in_bits_sub"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
     case "fmul" =>
-      new CostUnit("fmul", s"FMul_${format.name}", () => new FMul(format), FMul.stages,
+      new CostUnit("fmul", s"FMul_${format.name}_s${FMul.defaultStages(format)}", () => new FMul(format), FMul.defaultStages(format),
         IndexedSeq("io_in_bits_a", "io_in_bits_b"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
     case "mul" | "div" =>
       MapmError.check(format.manWidth >= 4, s"cost: the online units need at least 4 fraction bits, format $format has ${format.manWidth}")

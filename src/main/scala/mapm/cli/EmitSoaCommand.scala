@@ -4,6 +4,7 @@ import java.nio.file.Paths
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.FloatFormat
+import mapm.fpu.FpuDepth
 import mapm.shader.{CondCheck, SOA, ShaderChain}
 import mapm.sim.Emit
 import Args.FloatFormatReader
@@ -31,7 +32,7 @@ object EmitSoaCommand extends Command {
     val sv = new String(java.nio.file.Files.readAllBytes(file), "UTF-8")
     println(s"wrote $file ($top: format $format, g = $g, N = ${format.manWidth + 1 + g} digits per unit)")
     val units = ShaderChain.unitLatencies(format, g) ++
-      Seq("cond check" -> CondCheck.latency(), "SOA (colours, flags, cond, tag)" -> SOA.latency(format, g))
+      Seq("cond check" -> CondCheck.latency(FpuDepth.of(format)), "SOA (colours, flags, cond, tag)" -> SOA.latency(format, g))
     for ((unit, cycles) <- units) println(f"  latency $unit%-36s $cycles%3d cycles")
     println(s"  flip-flops: ${SvStats.registerBits(sv, Some(top))}")
     0

@@ -14,18 +14,24 @@ class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
   * zero-exponent inputs and of results below the smallest normal, overflow to infinity, canonical
   * NaN; docs/fpu.md).
   *
-  * Four stages, each ended by an optional register (cut), in this order:
-  *  0. unpack, special cases, order the operands by magnitude, exponent difference;
-  *  1. align the smaller significand (guard, round and sticky bits), add or subtract;
-  *  2. leading-zero count and normalizing shift;
-  *  3. round, overflow/flush, select special results.
+  * Steps ([[FAdd.weights]]), any of which a register may end ([[PipelinePlan]]):
+  *  - unpack, special cases, magnitude order and both exponent differences;
+  *  - swap by magnitude, and the alignment shift's upper levels;
+  *  - its lower levels, with guard, round and sticky bits;
+  *  - the Kogge-Stone levels of the (manWidth+4)-bit addition or subtraction (5 at fp32);
+  *  - the sum bits and the leading-zero count;
+  *  - the normalizing shift's upper levels and the exponent, then its lower levels;
+  *  - rounding: the block increments, then the carry select and the choice of overflow, flush or
+  *    the packed result.
   *
-  * Latency: the number of cuts present, 4 by default ([[FAdd.stages]]). Throughput: one operation
-  * per cycle; `out.valid` is `in.valid` delayed by the latency.
+  * Latency: `stages` cycles (the output is registered when stages >= 1), default
+  * [[FAdd.defaultStages]]. Throughput: one operation per cycle; `out.valid` is `in.valid` delayed
+  * by the latency.
   */
-class FAdd(val fmt: FloatFormat, val cuts: Seq[Boolean] = FAdd.defaultCuts) extends Module with PipelineCuts {
-  require(cuts.length == FAdd.stages, s"FAdd has ${FAdd.stages} cut points, got ${cuts.length}")
-  override def desiredName: String = nameWithCuts(s"FAdd_${fmt.name}")
+class FAdd(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPipeline {
+  def this(fmt: FloatFormat) = this(fmt, FAdd.defaultStages(fmt))
+  def weights: Seq[Double] = FAdd.weights(fmt)
+  override def desiredName: String = s"FAdd_${fmt.name}_s$stages"
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new FAddIn(fmt)))
@@ -34,89 +40,96 @@ class FAdd(val fmt: FloatFormat, val cuts: Seq[Boolean] = FAdd.defaultCuts) exte
 
   private val n = fmt.manWidth + 1
   private val shiftW = log2Ceil(n + 4)
+  private val expW = math.max(fmt.expWidth, shiftW) + 2
+  private val p = new StepPipe(cuts, io.in.valid)
 
-  // Stage 0: unpack, specials, order by magnitude.
-  val v0 = io.in.valid
+  private class Side extends Bundle {
+    val special = Bool()
+    val specialBits = UInt(fmt.width.W)
+    val sign = Bool()
+    val effSub = Bool()
+    val bigExp = UInt(fmt.expWidth.W)
+  }
+
+  // Step 0: unpack, specials, order by magnitude, both exponent differences (clamped).
   val a = FUnpack(fmt, io.in.bits.a)
   val b = FUnpack(fmt, io.in.bits.b)
   val bSign = b.sign ^ io.in.bits.sub
   val swap = Cat(b.exp, b.sig) > Cat(a.exp, a.sig) // zeros have exp = sig = 0
-  val s0 = Wire(new Bundle {
-    val special = Bool()
-    val specialBits = UInt(fmt.width.W)
-    val sign = Bool()
-    val effSub = Bool()
-    val bigExp = UInt(fmt.expWidth.W)
-    val bigSig = UInt(n.W)
-    val smallSig = UInt(n.W)
-    val shift = UInt(shiftW.W)
-  })
   val effSub = a.sign =/= bSign
   val invalid = a.isNaN || b.isNaN || (a.isInf && b.isInf && effSub)
-  s0.special := a.isNaN || b.isNaN || a.isInf || b.isInf
-  s0.specialBits := Mux(invalid, FPack.nan(fmt), FPack.inf(fmt, Mux(a.isInf, a.sign, bSign)))
-  s0.sign := Mux(swap, bSign, a.sign)
-  s0.effSub := effSub
-  s0.bigExp := Mux(swap, b.exp, a.exp)
-  s0.bigSig := Mux(swap, b.sig, a.sig)
-  s0.smallSig := Mux(swap, a.sig, b.sig)
-  val expDiff = Mux(swap, b.exp - a.exp, a.exp - b.exp)
-  s0.shift := Mux(expDiff >= (n + 3).U, (n + 3).U, expDiff(math.min(fmt.expWidth, shiftW) - 1, 0))
-  val v1 = validAt(0, v0)
-  val r0 = dataAt(0, v0, s0)
+  private def clamp(d: UInt): UInt = Mux(d >= (n + 3).U, (n + 3).U, d(math.min(fmt.expWidth, shiftW) - 1, 0))
+  private val special = p(a.isNaN || b.isNaN || a.isInf || b.isInf)
+  private val specialBits = p(Mux(invalid, FPack.nan(fmt), FPack.inf(fmt, Mux(a.isInf, a.sign, bSign))))
+  private val (swapR, effSubR) = (p(swap), p(effSub))
+  private val (aSign, bSignR, aExp, bExp) = (p(a.sign), p(bSign), p(a.exp), p(b.exp))
+  private val (aSig, bSig) = (p(a.sig), p(b.sig))
+  private val (shiftAB, shiftBA) = (p(clamp(a.exp - b.exp)), p(clamp(b.exp - a.exp)))
+  p.next()
 
-  // Stage 1: align with guard, round and sticky bits; add or subtract (|big| >= |small|).
-  val wide = Cat(r0.smallSig, 0.U((n + 6).W)) >> r0.shift // 2n+6 bits
-  val aligned = wide(2 * n + 5, n + 3) | wide(n + 2, 0).orR
-  val bigExt = Cat(r0.bigSig, 0.U(3.W))
-  val s1 = Wire(new Bundle {
-    val special = Bool()
-    val specialBits = UInt(fmt.width.W)
-    val sign = Bool()
-    val effSub = Bool()
-    val bigExp = UInt(fmt.expWidth.W)
-    val sum = UInt((n + 4).W)
-  })
-  s1.special := r0.special
-  s1.specialBits := r0.specialBits
-  s1.sign := r0.sign
-  s1.effSub := r0.effSub
-  s1.bigExp := r0.bigExp
-  s1.sum := Mux(r0.effSub, bigExt - aligned, bigExt +& aligned)
-  val v2 = validAt(1, v1)
-  val r1 = dataAt(1, v1, s1)
+  // The operands in magnitude order.
+  private val side1 = Wire(new Side)
+  side1.special := special
+  side1.specialBits := specialBits
+  side1.sign := Mux(swapR, bSignR, aSign)
+  side1.effSub := effSubR
+  side1.bigExp := Mux(swapR, bExp, aExp)
+  private var side = side1
 
-  // Stage 2: normalize so that the leading one sits at bit n+3 (a right shift of the reversed sum,
-  // which keeps the width); that bit is then implied.
-  val lz = PriorityEncoder(r1.sum.asBools.reverse)
-  val s2 = Wire(new Bundle {
-    val special = Bool()
-    val specialBits = UInt(fmt.width.W)
-    val sign = Bool()
-    val zero = Bool()
-    val zeroSign = Bool()
-    val exp = SInt((math.max(fmt.expWidth, shiftW) + 2).W)
-    val norm = UInt((n + 3).W)
-  })
-  s2.special := r1.special
-  s2.specialBits := r1.specialBits
-  s2.sign := r1.sign
-  s2.zero := r1.sum === 0.U
-  s2.zeroSign := r1.sign && !r1.effSub // exact zero: -0 only for (-0) + (-0)
-  s2.exp := (r1.bigExp +& 1.U).zext - lz.zext
-  s2.norm := Cat((Cat(r1.sum(n + 2, 0).asBools) >> lz).asBools) // reverse, shift right, reverse
-  val v3 = validAt(2, v2)
-  val r2 = dataAt(2, v2, s2)
+  // Align the smaller significand in a word of 2n+6 bits, which loses nothing (shift <= n+3):
+  // upper levels, then lower levels with guard, round and sticky bits.
+  private val lowBits = shiftW / 2
+  private def lowMask(x: UInt): UInt = x(lowBits - 1, 0)
+  private val shift = Mux(swapR, shiftBA, shiftAB)
+  private val coarse = Cat(Mux(swapR, aSig, bSig), 0.U((n + 6).W)) >> (shift >> lowBits << lowBits)
+  private val bigSig1 = p(Mux(swapR, bSig, aSig))
+  private val wide1 = p(coarse(2 * n + 5, 0)); private val fine = p(lowMask(shift)); side = p(side); p.next()
+  private val wide = wide1 >> fine
+  private val aligned = p(wide(2 * n + 5, n + 3) | wide(n + 2, 0).orR)
+  private val bigExt = p(Cat(bigSig1, 0.U(3.W))); side = p(side); p.next()
 
-  // Stage 3: round and pack.
-  val rounded = FPack.round(fmt, r2.sign, r2.exp, r2.norm(n + 2, 4), r2.norm(3), r2.norm(2, 0).orR)
-  val result = Mux(r2.special, r2.specialBits, Mux(r2.zero, FPack.zero(fmt, r2.zeroSign), rounded))
-  io.out.valid := validAt(3, v3)
-  io.out.bits := dataAt(3, v3, result)
+  // The addition (big >= small, so a subtraction is big + ~small + 1 without its carry out).
+  // The last level's register holds the sum bits rather than the prefix state.
+  private val spans = PrefixAdd.spans(n + 3)
+  private var add = PrefixAdd.start(bigExt, Mux(side.effSub, ~aligned, aligned), side.effSub, n + 3)
+  for (d <- spans.drop(1)) { add = add.map(p(_)); side = p(side); p.next(); add = PrefixAdd.level(add, d) }
+  private val total = p(PrefixAdd.sum(add)); side = p(side); p.next()
+  private val sum = Cat(total(n + 3) && !side.effSub, total(n + 2, 0)) // n+4 bits
+
+  // Leading zeros and zero result.
+  private val lz = PriorityEncoder(sum.asBools.reverse)
+  private val sumR = p(sum(n + 2, 0)); private val lzR = p(lz) // bit n+3 leaves in the shift: the implied one, or 0
+  private val zero = p(sum === 0.U)
+  private val zeroSign = p(side.sign && !side.effSub) // exact zero: -0 only for (-0) + (-0)
+  side = p(side); p.next()
+
+  /** x shifted left by `amount` within its own width: a right shift of the reversed word (the
+    * reversal as bit lists, which CIRCT emits as plain wiring). */
+  private def shiftLeft(x: UInt, amount: UInt): UInt = Cat((Cat(x.asBools) >> amount).asBools)
+
+  // Normalize so that the leading one sits at bit n+3 (then implied): upper, then lower levels;
+  // the exponent beside the upper levels.
+  private val norm1 = p(shiftLeft(sumR, lzR >> lowBits << lowBits))
+  private val lzFine = p(lowMask(lzR))
+  private val exp2 = p((side.bigExp +& 1.U).zext - lzR.zext)
+  private val (zero2, zeroSign2) = (p(zero), p(zeroSign)); side = p(side); p.next()
+  private val norm = p(shiftLeft(norm1, lzFine))
+  private val (zero3, exp3, zeroSign3) = (p(zero2), p(exp2), p(zeroSign2)); side = p(side); p.next()
+
+  // Rounding.
+  private val prep = p(RoundPrep(fmt, side.sign, exp3.pad(expW), norm(n + 2, 4), norm(3), norm(2, 0).orR))
+  private val (zero4, zeroSign4) = (p(zero3), p(zeroSign3)); side = p(side); p.next()
+  io.out.bits := p.last(Mux(side.special, side.specialBits, Mux(zero4, FPack.zero(fmt, zeroSign4), prep.finish)))
+  io.out.valid := p.finish()
 }
 
 object FAdd {
-  /** Cut points (optional register stages); the default latency. */
-  val stages = 4
-  val defaultCuts: Seq[Boolean] = Seq.fill(stages)(true)
+  /** Estimated delay of each step (docs/fpu.md). */
+  def weights(fmt: FloatFormat): Seq[Double] = {
+    val adder = PrefixAdd.spans(fmt.manWidth + 4).length
+    Seq(2.0, 1.5, 1.5) ++ Seq.tabulate(adder)(i => if (i == 0) 1.0 else 0.5) ++ Seq(2.0, 1.0, 1.0, 1.5, 1.5)
+  }
+
+  /** The default latency: [[FpuDepth.of]] at its default logic per stage. */
+  def defaultStages(fmt: FloatFormat): Int = FpuDepth.of(fmt).add
 }

@@ -8,12 +8,12 @@ import mapm.model.FloatFormat
   * [[mapm.model.SoftFloat.lt]]: false when either operand is a NaN; zeros of both signs, and
   * patterns with exponent field 0, are all equal to zero; infinities order as usual.
   *
-  * One stage (sign-magnitude compare) ended by an optional register. Latency: 1 by default
-  * ([[FCmpLt.stages]]); 0 with the register left out. Throughput: one comparison per cycle.
+  * One step (sign-magnitude compare) ended by a register when `stages` is 1. Latency: `stages`
+  * cycles, 1 by default, 0 without the register. Throughput: one comparison per cycle.
   */
-class FCmpLt(val fmt: FloatFormat, val cuts: Seq[Boolean] = FCmpLt.defaultCuts) extends Module with PipelineCuts {
-  require(cuts.length == FCmpLt.stages, s"FCmpLt has ${FCmpLt.stages} cut point, got ${cuts.length}")
-  override def desiredName: String = nameWithCuts(s"FCmpLt_${fmt.name}")
+class FCmpLt(val fmt: FloatFormat, val stages: Int = 1) extends Module with PlannedPipeline {
+  def weights: Seq[Double] = FCmpLt.weights
+  override def desiredName: String = s"FCmpLt_${fmt.name}_s$stages"
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new FOperands(fmt)))
@@ -29,11 +29,12 @@ class FCmpLt(val fmt: FloatFormat, val cuts: Seq[Boolean] = FCmpLt.defaultCuts) 
   val (ma, mb) = (magnitude(a), magnitude(b))
   val ordered = Mux(sa =/= sb, sa && (ma =/= 0.U || mb =/= 0.U), Mux(sa, ma > mb, ma < mb))
   val lt = ordered && !f.isNaN(a) && !f.isNaN(b)
-  io.out.valid := validAt(0, io.in.valid)
-  io.out.bits := dataAt(0, io.in.valid, lt)
+  private val p = new StepPipe(cuts, io.in.valid)
+  io.out.bits := p.last(lt)
+  io.out.valid := p.finish()
 }
 
 object FCmpLt {
-  val stages = 1
-  val defaultCuts: Seq[Boolean] = Seq.fill(stages)(true)
+  /** Estimated delay of its one step (docs/fpu.md). */
+  val weights: Seq[Double] = Seq(1.5)
 }

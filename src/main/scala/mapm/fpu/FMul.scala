@@ -8,17 +8,23 @@ import mapm.model.FloatFormat
   * `fmt`, bit-exact with [[mapm.model.SoftFloat.mul]] (flush of zero-exponent inputs and of
   * results below the smallest normal, overflow to infinity, canonical NaN; docs/fpu.md).
   *
-  * Three stages, each ended by an optional register (cut):
-  *  0. unpack, special cases, exponent sum, (manWidth+1)-bit significand product;
-  *  1. one-bit normalization, guard and sticky bits;
-  *  2. round, overflow/flush, select special results.
+  * Steps ([[FMul.weights]]), any of which a register may end ([[PipelinePlan]]):
+  *  - unpack, special cases, exponent sum, the significands' partial products and the first
+  *    Dadda level;
+  *  - the other Dadda levels, down to two rows (7 levels in all at fp32);
+  *  - the Kogge-Stone levels of the final 2(manWidth+1)-bit addition (6 at fp32);
+  *  - the sum bits, one-bit normalization, guard and sticky bits;
+  *  - rounding: the block increments, then the carry select and the choice of overflow, flush or
+  *    the packed result.
   *
-  * Latency: the number of cuts present, 3 by default ([[FMul.stages]]). Throughput: one operation
-  * per cycle; `out.valid` is `in.valid` delayed by the latency.
+  * Latency: `stages` cycles (the output is registered when stages >= 1), default
+  * [[FMul.defaultStages]]. Throughput: one operation per cycle; `out.valid` is `in.valid` delayed
+  * by the latency.
   */
-class FMul(val fmt: FloatFormat, val cuts: Seq[Boolean] = FMul.defaultCuts) extends Module with PipelineCuts {
-  require(cuts.length == FMul.stages, s"FMul has ${FMul.stages} cut points, got ${cuts.length}")
-  override def desiredName: String = nameWithCuts(s"FMul_${fmt.name}")
+class FMul(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPipeline {
+  def this(fmt: FloatFormat) = this(fmt, FMul.defaultStages(fmt))
+  def weights: Seq[Double] = FMul.weights(fmt)
+  override def desiredName: String = s"FMul_${fmt.name}_s$stages"
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new FOperands(fmt)))
@@ -27,59 +33,67 @@ class FMul(val fmt: FloatFormat, val cuts: Seq[Boolean] = FMul.defaultCuts) exte
 
   private val n = fmt.manWidth + 1
   private val expW = fmt.expWidth + 3 // holds 2 - bias .. 2*expMax - bias, signed
+  private val p = new StepPipe(cuts, io.in.valid)
 
-  // Stage 0: specials, exponent sum, significand product.
-  val v0 = io.in.valid
+  private class Side extends Bundle {
+    val special = Bool()
+    val specialBits = UInt(fmt.width.W)
+    val sign = Bool()
+    val exp = SInt(expW.W)
+  }
+
+  // Step 0: specials, exponent sum, partial products and the first Dadda level.
   val a = FUnpack(fmt, io.in.bits.a)
   val b = FUnpack(fmt, io.in.bits.b)
-  val s0 = Wire(new Bundle {
-    val special = Bool()
-    val specialBits = UInt(fmt.width.W)
-    val sign = Bool()
-    val exp = SInt(expW.W)
-    val prod = UInt((2 * n).W)
-  })
+  private val side0 = Wire(new Side)
   val sign = a.sign ^ b.sign
   val invalid = a.isNaN || b.isNaN || (a.isInf && b.isZero) || (b.isInf && a.isZero)
-  s0.special := a.isNaN || b.isNaN || a.isInf || b.isInf || a.isZero || b.isZero
-  s0.specialBits := Mux(invalid, FPack.nan(fmt),
+  side0.special := a.isNaN || b.isNaN || a.isInf || b.isInf || a.isZero || b.isZero
+  side0.specialBits := Mux(invalid, FPack.nan(fmt),
     Mux(a.isInf || b.isInf, FPack.inf(fmt, sign), FPack.zero(fmt, sign)))
-  s0.sign := sign
-  s0.exp := (a.exp +& b.exp).zext - fmt.bias.S
-  s0.prod := a.sig * b.sig
-  val v1 = validAt(0, v0)
-  val r0 = dataAt(0, v0, s0)
+  side0.sign := sign
+  side0.exp := (a.exp +& b.exp).zext - fmt.bias.S
 
-  // Stage 1: the product is in [2^(2n-2), 2^(2n)): keep the n-1 fraction bits below its leading one.
-  val top = r0.prod(2 * n - 1)
-  val s1 = Wire(new Bundle {
-    val special = Bool()
-    val specialBits = UInt(fmt.width.W)
-    val sign = Bool()
-    val exp = SInt(expW.W)
-    val frac = UInt((n - 1).W)
-    val guard = Bool()
-    val sticky = Bool()
-  })
-  s1.special := r0.special
-  s1.specialBits := r0.specialBits
-  s1.sign := r0.sign
-  s1.exp := r0.exp + top.zext
-  s1.frac := Mux(top, r0.prod(2 * n - 2, n), r0.prod(2 * n - 3, n - 1))
-  s1.guard := Mux(top, r0.prod(n - 1), r0.prod(n - 2))
-  val lowSticky = if (n >= 3) r0.prod(n - 3, 0).orR else false.B
-  s1.sticky := lowSticky || (top && r0.prod(n - 2))
-  val v2 = validAt(1, v1)
-  val r1 = dataAt(1, v1, s1)
+  private var side = side0
+  private val targets = Dadda.targets(n)
+  private var cols = targets.headOption.fold(Dadda.partialProducts(a.sig, b.sig))(Dadda.level(Dadda.partialProducts(a.sig, b.sig), _))
+  private def crossTree(): Unit = { cols = cols.map(_.map(p(_))); side = p(side); p.next() }
+  crossTree()
+  for (t <- targets.drop(1)) { cols = Dadda.level(cols, t); crossTree() }
 
-  // Stage 2: round and pack.
-  val rounded = FPack.round(fmt, r1.sign, r1.exp, r1.frac, r1.guard, r1.sticky)
-  io.out.valid := validAt(2, v2)
-  io.out.bits := dataAt(2, v2, Mux(r1.special, r1.specialBits, rounded))
+  // The final addition, one Kogge-Stone level per step; the last level's register holds the sum.
+  private val (rowA, rowB) = Dadda.rows(cols, 2 * n)
+  // The product fits in 2n bits: no carry out.
+  private val spans = PrefixAdd.spans(2 * n, carryOut = false)
+  private var add = PrefixAdd.start(rowA, rowB, false.B, 2 * n, carryOut = false)
+  for (d <- spans.drop(1)) { add = add.map(p(_)); side = p(side); p.next(); add = PrefixAdd.level(add, d) }
+  private val prod = p(PrefixAdd.sum(add)); side = p(side); p.next()
+
+  // The product is in [2^(2n-2), 2^(2n)): keep the n-1 fraction bits below its leading one.
+  val top = prod(2 * n - 1)
+  val frac = Mux(top, prod(2 * n - 2, n), prod(2 * n - 3, n - 1))
+  val guard = Mux(top, prod(n - 1), prod(n - 2))
+  val sticky = (if (n >= 3) prod(n - 3, 0).orR else false.B) || (top && prod(n - 2))
+  val exp = side.exp + top.zext
+  private val fracR = p(frac); private val guardR = p(guard); private val stickyR = p(sticky)
+  private val expR = p(exp); side = p(side); p.next()
+
+  // Rounding.
+  private val prep = p(RoundPrep(fmt, side.sign, expR, fracR, guardR, stickyR)); side = p(side); p.next()
+  io.out.bits := p.last(Mux(side.special, side.specialBits, prep.finish))
+  io.out.valid := p.finish()
 }
 
 object FMul {
-  /** Cut points (optional register stages); the default latency. */
-  val stages = 3
-  val defaultCuts: Seq[Boolean] = Seq.fill(stages)(true)
+  /** Estimated delay of each step (docs/fpu.md). */
+  def weights(fmt: FloatFormat): Seq[Double] = {
+    val n = fmt.manWidth + 1
+    val levels = Dadda.targets(n).length
+    val adder = PrefixAdd.spans(2 * n, carryOut = false).length
+    Seq(1.0 + (if (levels > 0) 1.0 else 0.0)) ++ Seq.fill(levels - 1 max 0)(1.0) ++
+      Seq.tabulate(adder)(i => if (i == 0) 1.0 else 0.5) ++ Seq(1.5, 1.0, 1.5)
+  }
+
+  /** The default latency: [[FpuDepth.of]] at its default logic per stage. */
+  def defaultStages(fmt: FloatFormat): Int = FpuDepth.of(fmt).mul
 }

@@ -67,32 +67,68 @@ private[fpu] object FPack {
   def inf(fmt: FloatFormat, sign: Bool): UInt = Cat(sign, fmt.expMax.U(fmt.expWidth.W), 0.U(fmt.manWidth.W))
   def zero(fmt: FloatFormat, sign: Bool): UInt = Cat(sign, 0.U((fmt.width - 1).W))
   def nan(fmt: FloatFormat): UInt = fmt.quietNaN.U(fmt.width.W)
+}
 
-  /** Rounds to nearest even and packs. The significand is 1.`frac` (`frac` is manWidth bits, the
-    * leading one implied), `exp` the biased exponent of that leading one (any range), `guard` the
-    * next bit below `frac` and `sticky` whether anything below the guard bit is nonzero. A rounded
-    * exponent of expMax or more is infinity, 0 or less a zero (flush based on the rounded value),
-    * both carrying `sign`. */
-  def round(fmt: FloatFormat, sign: Bool, exp: SInt, frac: UInt, guard: Bool, sticky: Bool): UInt = {
-    val up = guard && (sticky || frac(0))
-    val next = frac +& up // carry out: 1.11..1 rounded up to 10.00..0, whose fraction is 0
-    val e = exp +& next(fmt.manWidth).zext
-    Mux(e >= fmt.expMax.S, inf(fmt, sign),
-      Mux(e <= 0.S, zero(fmt, sign), Cat(sign, e(fmt.expWidth - 1, 0).asUInt, next(fmt.manWidth - 1, 0))))
+/** A rounding to nearest even split in two steps, so that a pipeline register may sit between
+  * them. The significand is 1.`frac` (`frac` is manWidth bits, the leading one implied), `exp`
+  * the biased exponent of that leading one (any range), `guard` the next bit below `frac` and
+  * `sticky` whether anything below the guard bit is nonzero. A rounded exponent of expMax or more
+  * is infinity, 0 or less a zero (flush based on the rounded value), both carrying `sign`.
+  *
+  * The increment is a carry-select over blocks of [[RoundPrep.Block]] bits. The first step
+  * decides whether to round up, increments each block on its own, finds the carry into each block
+  * (round up and every lower bit one) and out of the fraction, and decides for both the exponent
+  * and the exponent plus one whether the result overflows or flushes. The second ([[finish]]) only
+  * selects: each block or its increment, then by the carry out (1.11..1 rounded up to 10.00..0,
+  * fraction 0) the exponent, overflow or flush. */
+private[fpu] class RoundPrep(fmt: FloatFormat) extends Bundle {
+  private val m = fmt.manWidth
+  private val blocks = RoundPrep.ranges(m).length
+  val sign = Bool()
+  val frac = UInt(m.W)
+  val fracInc = UInt(m.W)               // each block plus one, on its own
+  val carries = UInt(blocks.W)          // carry into block k
+  val carry = Bool()                    // carry out of the fraction
+  val exp = UInt(fmt.expWidth.W)        // low bits of exp and of exp + 1
+  val expUp = UInt(fmt.expWidth.W)
+  val inf = Bool()                      // exp >= expMax; infUp: exp + 1 >= expMax
+  val infUp = Bool()
+  val zero = Bool()                     // exp <= 0; zeroUp: exp + 1 <= 0
+  val zeroUp = Bool()
+
+  /** The packed result. */
+  def finish: UInt = {
+    val next = Cat(RoundPrep.ranges(m).zipWithIndex.reverse.map { case ((lo, hi), k) =>
+      Mux(carries(k), fracInc(hi, lo), frac(hi, lo))
+    })
+    Mux(Mux(carry, infUp, inf), FPack.inf(fmt, sign),
+      Mux(Mux(carry, zeroUp, zero), FPack.zero(fmt, sign),
+        Cat(sign, Mux(carry, expUp, exp), next)))
   }
 }
 
-/** Optional pipeline registers at a unit's cut points: `cuts(i)` says whether cut i holds a
-  * register. Data registers load only while the valid bit beside them is set. */
-private[fpu] trait PipelineCuts { this: Module =>
-  def cuts: Seq[Boolean]
-  /** Number of register stages, the unit's latency in cycles. */
-  def latency: Int = cuts.count(identity)
+private[fpu] object RoundPrep {
+  /** Bits per block of the rounding increment's carry-select. */
+  val Block = 6
 
-  protected def validAt(i: Int, v: Bool): Bool = if (cuts(i)) RegNext(v, false.B) else v
-  protected def dataAt[T <: Data](i: Int, v: Bool, x: T): T = if (cuts(i)) RegEnable(x, v) else x
+  /** The blocks' bit ranges (low, high) of an m-bit fraction, lowest first. */
+  def ranges(m: Int): Seq[(Int, Int)] = (0 until m by Block).map(lo => (lo, math.min(m, lo + Block) - 1))
 
-  /** `base` and, when some cut is left out, the cut pattern (e.g. `_c1011`). */
-  protected def nameWithCuts(base: String): String =
-    if (cuts.forall(identity)) base else base + "_c" + cuts.map(c => if (c) "1" else "0").mkString
+  def apply(fmt: FloatFormat, sign: Bool, exp: SInt, frac: UInt, guard: Bool, sticky: Bool): RoundPrep = {
+    val r = Wire(new RoundPrep(fmt))
+    val m = fmt.manWidth
+    val up = guard && (sticky || frac(0))
+    r.sign := sign
+    r.frac := frac
+    r.fracInc := Cat(ranges(m).reverse.map { case (lo, hi) => frac(hi, lo) + 1.U })
+    r.carries := Cat(ranges(m).reverse.map { case (lo, _) => if (lo == 0) up else up && frac(lo - 1, 0).andR })
+    r.carry := up && frac.andR
+    r.exp := exp(fmt.expWidth - 1, 0).asUInt
+    r.expUp := (exp(fmt.expWidth - 1, 0).asUInt + 1.U)(fmt.expWidth - 1, 0)
+    r.inf := exp >= fmt.expMax.S
+    r.infUp := exp >= (fmt.expMax - 1).S
+    r.zero := exp <= 0.S
+    r.zeroUp := exp <= (-1).S
+    r
+  }
 }

@@ -58,9 +58,18 @@ final case class ModuleCounts(
 /** Number format of every value the accelerator computes on. */
 final case class NumberParams(
     format: FloatFormat = FloatFormat.fp32, // float format of positions, h, split values, power, ...
-    guardDigits: Int = 3                    // extra online digits in the SOA (0 = the dissertation's design)
+    guardDigits: Int = 3,                   // extra online digits in the SOA (0 = the dissertation's design)
+    fpuStageWeight: Double = NumberParams.DefaultFpuStageWeight // logic per register stage of the conventional FP units (docs/fpu.md)
 ) {
   require(guardDigits >= 0 && guardDigits <= 8, s"guard digits must be 0..8, got $guardDigits")
+  require(fpuStageWeight >= 0.5 && fpuStageWeight <= 100, s"FPU logic per stage must be 0.5..100, got $fpuStageWeight")
+}
+
+object NumberParams {
+  /** Logic per register stage of the conventional floating-point units, in their steps' weight
+    * units (about one full adder each; docs/fpu.md): the lightest that the fp32 cond check needs
+    * to clock at 500 MHz on OSU018 (docs/cost.md). */
+  val DefaultFpuStageWeight: Double = 2.0
 }
 
 /** Queues and buffers between the blocks (docs/mapm.md explains each). */
@@ -141,10 +150,13 @@ final case class MapmParams(
   }
 
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
-    * wide layout gives the format larger slots than the packed one. */
+    * wide layout gives the format larger slots than the packed one, and the FPU logic per stage
+    * (e.g. `_fw1p5`) where it is not the default. */
   def name: String = {
     val wide = if (slotBytes != SlotLayout.Packed.slotBytes(numbers.format)) "_wide" else ""
-    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide"
+    val w = numbers.fpuStageWeight
+    val depth = if (w != NumberParams.DefaultFpuStageWeight) "_fw" + f"$w%.2f".stripSuffix("0").stripSuffix("0").stripSuffix(".").replace('.', 'p') else ""
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth"
   }
 }
 

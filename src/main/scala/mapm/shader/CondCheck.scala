@@ -2,7 +2,7 @@ package mapm.shader
 
 import chisel3._
 import chisel3.util._
-import mapm.fpu.{FAdd, FCmpLt, FMul}
+import mapm.fpu.{FAdd, FCmpLt, FMul, FpuDepth}
 import mapm.model.FloatFormat
 
 /** Inputs of [[CondCheck]]: query point q, photon position p, kernel radius h (bit patterns of
@@ -37,17 +37,18 @@ class CondOut(tagWidth: Int) extends Bundle {
   * h waits one adder latency, dz*dz one and hh two, in valid-gated delay registers; the tag
   * travels in such registers beside the units.
   *
-  * Latency: [[latency]] = 3 FAdd + FMul + FCmpLt latencies (16 cycles with the default cuts, for
-  * every format). Throughput: one check per cycle; results leave in input order with their tags.
+  * The units' pipeline depth is `depth` ([[FpuDepth]]; by default pipelined for the clock the
+  * online units reach, docs/cost.md).
+  *
+  * Latency: [[latency]] = 3 FAdd + FMul + FCmpLt latencies (37 cycles at fp32, 36 at fp16 by
+  * default). Throughput: one check per cycle; results leave in input order with their tags.
   */
-class CondCheck(val fmt: FloatFormat, val tagWidth: Int,
-                addCuts: Seq[Boolean] = FAdd.defaultCuts,
-                mulCuts: Seq[Boolean] = FMul.defaultCuts,
-                cmpCuts: Seq[Boolean] = FCmpLt.defaultCuts) extends Module {
+class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth) extends Module {
+  def this(fmt: FloatFormat, tagWidth: Int) = this(fmt, tagWidth, FpuDepth.of(fmt))
   require(tagWidth >= 1, s"CondCheck tag width must be at least 1, got $tagWidth")
-  override def desiredName: String = s"CondCheck_${fmt.name}_t$tagWidth"
+  override def desiredName: String = CondCheck.name(fmt, tagWidth, depth)
 
-  val latency: Int = CondCheck.latency(addCuts, mulCuts, cmpCuts)
+  val latency: Int = CondCheck.latency(depth)
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new CondIn(fmt, tagWidth)))
@@ -56,7 +57,7 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int,
 
   /** a + b (or a - b) in an [[FAdd]]; the operands' valid bits always agree and are ANDed. */
   private def add(a: Valid[UInt], b: Valid[UInt], sub: Boolean): Valid[UInt] = {
-    val u = Module(new FAdd(fmt, addCuts))
+    val u = Module(new FAdd(fmt, depth.add))
     u.io.in.valid := a.valid && b.valid
     u.io.in.bits.a := a.bits
     u.io.in.bits.b := b.bits
@@ -64,7 +65,7 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int,
     u.io.out
   }
   private def square(x: Valid[UInt]): Valid[UInt] = {
-    val u = Module(new FMul(fmt, mulCuts))
+    val u = Module(new FMul(fmt, depth.mul))
     u.io.in.valid := x.valid
     u.io.in.bits.a := x.bits
     u.io.in.bits.b := x.bits
@@ -85,7 +86,7 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int,
   }
 
   val in = io.in.bits
-  val addLatency: Int = addCuts.count(identity)
+  val addLatency: Int = depth.add
   val dx = add(input(in.qx), input(in.px), sub = true)
   val dy = add(input(in.qy), input(in.py), sub = true)
   val dz = add(input(in.qz), input(in.pz), sub = true)
@@ -93,7 +94,7 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int,
   val d2 = add(xy, delay(square(dz), addLatency), sub = false)
   val hh = delay(square(delay(input(in.h), addLatency)), 2 * addLatency)
 
-  val cmp = Module(new FCmpLt(fmt, cmpCuts))
+  val cmp = Module(new FCmpLt(fmt, depth.cmp))
   cmp.io.in.valid := d2.valid && hh.valid
   cmp.io.in.bits.a := d2.bits
   cmp.io.in.bits.b := hh.bits
@@ -104,8 +105,10 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int,
 }
 
 object CondCheck {
-  /** Cycles from input to output for the given unit cuts (16 with the defaults). */
-  def latency(addCuts: Seq[Boolean] = FAdd.defaultCuts, mulCuts: Seq[Boolean] = FMul.defaultCuts,
-              cmpCuts: Seq[Boolean] = FCmpLt.defaultCuts): Int =
-    3 * addCuts.count(identity) + mulCuts.count(identity) + cmpCuts.count(identity)
+  /** The module name, e.g. `CondCheck_e8m23_t16_a8m9c1` (the units' stages). */
+  def name(fmt: FloatFormat, tagWidth: Int, depth: FpuDepth): String =
+    s"CondCheck_${fmt.name}_t${tagWidth}_a${depth.add}m${depth.mul}c${depth.cmp}"
+
+  /** Cycles from input to output at the units' depth. */
+  def latency(depth: FpuDepth): Int = 3 * depth.add + depth.mul + depth.cmp
 }

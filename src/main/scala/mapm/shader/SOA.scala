@@ -2,6 +2,7 @@ package mapm.shader
 
 import chisel3._
 import chisel3.util._
+import mapm.fpu.FpuDepth
 import mapm.model.FloatFormat
 import mapm.params.Rgb
 
@@ -43,16 +44,21 @@ class SoaResult(format: FloatFormat, tagWidth: Int) extends Bundle {
   * registers so that the three colours, their flags, cond and the tag leave in the same cycle.
   * The tag travels through the colour chain; the cond check carries a one-bit dummy tag.
   *
-  * Latency: [[SOA.latency]] = max(ShaderChain N + 18, CondCheck 16) cycles; with every format
-  * the chain is the longer path (fp32: 42 at g = 0, 45 at g = 3; fp16: 32 at g = 3), and cond
-  * waits N + 2 cycles. Throughput: one operation per cycle, fully pipelined, never stalls;
+  * The cond check's floating-point units are pipelined to `condDepth` ([[FpuDepth]], by default
+  * [[FpuDepth.of]] the format: the depth at which they keep up with the online units' clock).
+  *
+  * Latency: [[SOA.latency]] = max(ShaderChain N + 18, CondCheck) cycles. At fp32 and fp64 the
+  * chain is the longer path (fp32: 42 at g = 0, 45 at g = 3, beside the cond check's 37); at fp16
+  * (chain 32 at g = 3, cond check 36), bf16 and smaller formats the cond check is. Throughput: one operation per cycle, fully pipelined, never stalls;
   * `out.valid` follows `in.valid` and results leave in input order.
   */
-class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends Module {
-  override def desiredName: String = SOA.name(format, g)
+class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
+          val condDepth: Option[FpuDepth] = None) extends Module {
+  private val depth = condDepth.getOrElse(FpuDepth.of(format))
+  override def desiredName: String = SOA.name(format, g, condDepth)
 
   /** Cycles from an operation on `in` to its result on `out`. */
-  val latency: Int = SOA.latency(format, g)
+  val latency: Int = SOA.latency(format, g, depth)
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new SoaRequest(format, tagWidth)))
@@ -69,7 +75,7 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends M
   chain.io.in.bits.contrib := req.contrib
   chain.io.in.bits.tag := req.tag
 
-  val condCheck = Module(new CondCheck(format, 1))
+  val condCheck = Module(new CondCheck(format, 1, depth))
   condCheck.io.in.valid := io.in.valid
   condCheck.io.in.bits.qx := req.qx
   condCheck.io.in.bits.qy := req.qy
@@ -82,7 +88,10 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends M
 
   private val chainWait = latency - chain.latency
   private val condWait = latency - condCheck.latency
-  io.out.valid := ShiftRegister(chain.io.out.valid, chainWait, false.B, true.B)
+  // Both paths' valid bits (always equal: the same operations, fixed latencies), so that neither
+  // path's valid pipeline is left dangling.
+  io.out.valid := ShiftRegister(chain.io.out.valid, chainWait, false.B, true.B) &&
+    ShiftRegister(condCheck.io.out.valid, condWait, false.B, true.B)
   io.out.bits.colour := ShiftRegister(chain.io.out.bits.colour, chainWait)
   io.out.bits.flags := ShiftRegister(chain.io.out.bits.flags, chainWait)
   io.out.bits.tag := ShiftRegister(chain.io.out.bits.tag, chainWait)
@@ -90,9 +99,13 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends M
 }
 
 object SOA {
-  /** The module name, e.g. `SOA_e8m23_g3`. */
-  def name(format: FloatFormat, g: Int): String = s"SOA_${format.name}_g$g"
+  /** The module name, e.g. `SOA_e8m23_g3`; a cond-check depth other than the format's default
+    * adds its stages, e.g. `SOA_e8m23_g3_a4m3c1`. */
+  def name(format: FloatFormat, g: Int, condDepth: Option[FpuDepth] = None): String =
+    s"SOA_${format.name}_g$g" + condDepth.filter(_ != FpuDepth.of(format)).fold("")(d => s"_a${d.add}m${d.mul}c${d.cmp}")
 
   /** Cycles from input to output: the longer of the colour chain and the cond check. */
-  def latency(format: FloatFormat, g: Int): Int = ShaderChain.latency(format, g) max CondCheck.latency()
+  def latency(format: FloatFormat, g: Int, condDepth: FpuDepth): Int =
+    ShaderChain.latency(format, g) max CondCheck.latency(condDepth)
+  def latency(format: FloatFormat, g: Int): Int = latency(format, g, FpuDepth.of(format))
 }

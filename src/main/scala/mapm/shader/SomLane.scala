@@ -2,6 +2,7 @@ package mapm.shader
 
 import chisel3._
 import chisel3.util._
+import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
 import mapm.util.Pick
@@ -52,7 +53,7 @@ class SomLane(p: MapmParams) extends Module {
   val l1 = Module(new ReadOnlyCache(l1Config))
   io.mem <> l1.io.down
   io.l1 := l1.io.counters
-  val soa = Module(new SOA(fmt, p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits))
+  val soa = Module(new SOA(fmt, p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight))))
 
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
   val sent = RegInit(VecInit(Seq.fill(n)(false.B)))

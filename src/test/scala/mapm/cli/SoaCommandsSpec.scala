@@ -16,15 +16,15 @@ class SoaCommandsSpec extends AnyFunSuite with SharedFiles {
     (code, out.toString("UTF-8"))
   }
 
-  test("emit-soa writes SOA_e5m10_g2.sv and reports the chain's latency 31, the SOA's 31 and the flip-flops") {
+  test("emit-soa writes SOA_e5m10_g2.sv and reports the chain's latency 31, the cond check's 36, the SOA's 36 and the flip-flops") {
     val dir = Files.createTempDirectory("emit-soa")
     val (code, text) = run(EmitSoaCommand, "--format", "5,10", "--g", "2", "--out", dir.toString)
     assert(code == 0)
     val sv = new String(Files.readAllBytes(dir.resolve("SOA_e5m10_g2.sv")), "UTF-8")
-    assert(sv.contains("module SOA_e5m10_g2(") && sv.contains("module ShaderChain_e5m10_g2(") && sv.contains("module CondCheck_e5m10_t1("))
+    assert(sv.contains("module SOA_e5m10_g2(") && sv.contains("module ShaderChain_e5m10_g2(") && sv.contains("module CondCheck_e5m10_t1_a9m8c1("))
     assert(text.linesIterator.exists(l => l.contains("whole chain") && l.contains(" 31 ")), text)
-    assert(text.linesIterator.exists(l => l.contains("cond check") && l.contains(" 16 ")), text)
-    assert(text.linesIterator.exists(l => l.contains("SOA (") && l.contains(" 31 ")), text)
+    assert(text.linesIterator.exists(l => l.contains("cond check") && l.contains(" 36 ")), text)
+    assert(text.linesIterator.exists(l => l.contains("SOA (") && l.contains(" 36 ")), text)
     assert(text.linesIterator.exists(_.matches("""\s*flip-flops: \d+""")))
   }
 

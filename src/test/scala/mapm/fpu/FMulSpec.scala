@@ -11,16 +11,16 @@ import org.scalatest.funsuite.AnyFunSuite
 @Slow
 class FMulSpec extends AnyFunSuite with Sim {
 
-  /** `count` products a * b, (a, b) = op(i), through FMul(f, cuts) against SoftFloat.mul. */
-  private def stream(f: FloatFormat, cuts: Seq[Boolean], count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report =
-    StreamCheck.run(pipe(new FMul(f, cuts))(_.io.in, _.io.out), cuts.count(identity), count,
+  /** `count` products a * b, (a, b) = op(i), through FMul(f, stages) against SoftFloat.mul. */
+  private def stream(f: FloatFormat, stages: Int, count: Int, op: Int => (Long, Long), seed: Long): StreamCheck.Report =
+    StreamCheck.run(pipe(new FMul(f, stages))(_.io.in, _.io.out), stages, count,
       i => { val (a, b) = op(i); Seq(port(a), port(b)) },
       i => { val (a, b) = op(i); Seq(port(SoftFloat.mul(f, a, b))) },
       i => { val (a, b) = op(i); s"${f.hex(a)} * ${f.hex(b)}" }, gap = 0.2, seed)
 
   test("exhaustive e2m1, e3m2, e4m3: every operand pair") {
     for (f <- Seq(FloatFormat(2, 1), FloatFormat(3, 2), FloatFormat(4, 3))) {
-      val r = stream(f, FMul.defaultCuts, 1 << (2 * f.width), exhaustivePair(f, _), seed = f.width)
+      val r = stream(f, FMul.defaultStages(f), 1 << (2 * f.width), exhaustivePair(f, _), seed = f.width)
       info(s"$f: ${r.operations} operations in ${r.cycles} cycles (${r.idleCycles} idle)")
     }
   }
@@ -28,14 +28,13 @@ class FMulSpec extends AnyFunSuite with Sim {
   test("fp32: 200,000 seeded hard-case pairs; fp64, e2m52, e11m1: 30,000 each") {
     for ((f, count) <- Seq(FloatFormat.fp32 -> 200000, FloatFormat.fp64 -> 30000, FloatFormat(2, 52) -> 30000, FloatFormat(11, 1) -> 30000)) {
       val (a, b) = randomPairs(f, count, seed = 50 + f.width)
-      val r = stream(f, FMul.defaultCuts, count, i => (a(i), b(i)), seed = f.width)
+      val r = stream(f, FMul.defaultStages(f), count, i => (a(i), b(i)), seed = f.width)
       info(s"$f: ${r.operations} operations in ${r.cycles} cycles")
     }
   }
 
-  test("other cut patterns (latency 1 and 0) compute the same, exhaustive at e3m2") {
-    val f = FloatFormat(3, 2)
-    for (cuts <- Seq(Seq(false, true, false), Seq.fill(FMul.stages)(false)))
-      stream(f, cuts, 1 << (2 * f.width), exhaustivePair(f, _), seed = 6)
+  test("other depths (0, 1, 2, 3 and every step registered) compute the same, exhaustive at e3m2 and e4m3") {
+    for (f <- Seq(FloatFormat(3, 2), FloatFormat(4, 3)); stages <- Seq(0, 1, 2, 3, FMul.weights(f).length))
+      stream(f, stages, 1 << (2 * f.width), exhaustivePair(f, _), seed = 6 + stages)
   }
 }

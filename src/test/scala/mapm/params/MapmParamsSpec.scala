@@ -24,6 +24,10 @@ class MapmParamsSpec extends AnyFunSuite {
     assert(MapmParams.presets.size == 24)
     assert(MapmParams.presets("16/16/3").counts == ModuleCounts(16, 16, 3))
     assert(MapmParams.default.name == "t16s16a2_e8m23_g3")
+    // A lighter stage weight deepens the cond check's units (FpuDepth.of: fp32 at 1.0 per stage).
+    val deep = MapmParams(numbers = NumberParams(fpuStageWeight = 1.0))
+    assert(mapm.fpu.FpuDepth.of(FloatFormat.fp32, deep.numbers.fpuStageWeight) == mapm.fpu.FpuDepth(11, 14, 1))
+    assert(deep.name == "t16s16a2_e8m23_g3_fw1" && MapmParams(numbers = NumberParams(fpuStageWeight = 1.5)).name.endsWith("_fw1p5"))
   }
 
   test("slots, record sizes and cache lines follow the format and the layout") {
@@ -54,6 +58,7 @@ class MapmParamsSpec extends AnyFunSuite {
     assert(msg(MapmParams(queues = QueueParams(registerQueueDepth = 25))).contains("Register queue depth 25 must exceed the tree-depth reserve"))
     assert(msg(MapmParams(counts = ModuleCounts(1, 1, 3), queues = QueueParams(rsEntries = 8))).contains("reservation-station entries 8"))
     assert(msg(QueueParams(queryFetches = 65)).contains("query fetches"))
+    assert(msg(NumberParams(fpuStageWeight = 0.25)).contains("FPU logic per stage must be 0.5..100"))
     assert(MapmParams.table48(64, 64, 4).queues.rsEntries == 32)
     val e = intercept[mapm.MapmError](MapmParams.of(2, 2, 2, FloatFormat.fp32, 3, registerQueueDepth = Some(10)))
     assert(e.getMessage.startsWith("configuration 2/2/2 e8m23: Register queue depth must be 8..4096") ||

@@ -1,7 +1,7 @@
 package mapm.shader
 
 import mapm.Slow
-import mapm.fpu.{FAdd, FCmpLt, FMul, LintCheck, StreamCheck}
+import mapm.fpu.{FpuDepth, LintCheck, StreamCheck}
 import mapm.fpu.FpuTesting.port
 import mapm.model.{CondGen, CondModel, CondTables, FloatFormat}
 import mapm.testutil.Sim
@@ -14,11 +14,10 @@ class CondCheckSpec extends AnyFunSuite with Sim {
   /** `count` checks, input(i) = (qx, qy, qz, px, py, pz, h) tagged i, against CondModel: the
     * result must carry cond and the tag (fields cond, tag). */
   private def stream(f: FloatFormat, tagWidth: Int, count: Int, input: Int => Array[Long], seed: Long,
-                     addCuts: Seq[Boolean] = FAdd.defaultCuts, mulCuts: Seq[Boolean] = FMul.defaultCuts,
-                     cmpCuts: Seq[Boolean] = FCmpLt.defaultCuts): StreamCheck.Report = {
+                     depth: Option[FpuDepth] = None): StreamCheck.Report = {
+    val d = depth.getOrElse(FpuDepth.of(f))
     val tagMask = (1 << tagWidth) - 1
-    StreamCheck.run(pipe(new CondCheck(f, tagWidth, addCuts, mulCuts, cmpCuts))(_.io.in, _.io.out),
-      CondCheck.latency(addCuts, mulCuts, cmpCuts), count,
+    StreamCheck.run(pipe(new CondCheck(f, tagWidth, d))(_.io.in, _.io.out), CondCheck.latency(d), count,
       i => input(i).toSeq.map(port) :+ BigInt(i & tagMask),
       i => {
         val in = input(i)
@@ -34,13 +33,13 @@ class CondCheckSpec extends AnyFunSuite with Sim {
     Array.tabulate(7)(j => (k >>> (f.width * j)) & f.mask)
   }
 
-  test("latency: 16 cycles with the default cuts at fp32 and fp16 (instance value and formula agree)") {
-    for (f <- Seq(FloatFormat.fp32, FloatFormat.fp16)) {
+  test("latency: three adders, a multiplier and a compare at the default depth (fp32 37, fp16 36)") {
+    for ((f, want) <- Seq(FloatFormat.fp32 -> 37, FloatFormat.fp16 -> 36)) {
       var latency = -1
       circt.stage.ChiselStage.emitCHIRRTL { val m = new CondCheck(f, 4); latency = m.latency; m }
-      assert(latency == 16 && CondCheck.latency() == 16, s"$f: instance $latency")
+      assert(latency == want && CondCheck.latency(FpuDepth.of(f)) == want, s"$f: instance $latency")
     }
-    assert(CondCheck.latency(Seq(true, false, true, false), Seq(false, true, false), Seq(false)) == 7)
+    assert(CondCheck.latency(FpuDepth(2, 0, 0)) == 6)
   }
 
   /** The inputs of a tiny format `f` whose operand h has sign bit `hSign` (half of all 2^(7·w))
@@ -53,7 +52,7 @@ class CondCheckSpec extends AnyFunSuite with Sim {
     val t = new CondTables(f)
     // rows (valid, hi), outputs (cond, allValid, anyValid)
     val pipe = this.pipe(new CondCheckBench(f, laneBits), noInline = Seq("CondCheck_"))(_.io, _.io)
-    val latency = CondCheck.latency()
+    val latency = CondCheck.latency(FpuDepth.of(f))
     val lanes = 1 << laneBits
     val lines = 1 << (7 * f.width - laneBits - 1) // h's sign is the top bit of the case index
     val first = hSign * lines
@@ -131,15 +130,16 @@ class CondCheckSpec extends AnyFunSuite with Sim {
     }
   }
 
-  test("with cuts left out (latency 7) it computes the same, e2m1 sweep") {
-    stream(FloatFormat(2, 1), 3, 65000, e2m1Sweep(4129), seed = 4,
-      Seq(true, false, true, false), Seq(false, true, false), Seq(false))
+  test("at other depths (latency 7 and 0) it computes the same, e2m1 sweep") {
+    for (d <- Seq(FpuDepth(2, 1, 0), FpuDepth(0, 0, 0)))
+      stream(FloatFormat(2, 1), 3, 65000, e2m1Sweep(4129), seed = 4, Some(d))
   }
 
   test("Verilator lint of the emitted SystemVerilog is clean (e2m1, fp16, fp32, fp64)") {
     for (f <- Seq(FloatFormat(2, 1), FloatFormat.fp16, FloatFormat.fp32, FloatFormat.fp64)) {
       val (top, messages) = LintCheck(new CondCheck(f, 12))
-      assert(top == s"CondCheck_${f.name}_t12")
+      val d = FpuDepth.of(f)
+      assert(top == s"CondCheck_${f.name}_t12_a${d.add}m${d.mul}c1")
       assert(messages.isEmpty, s"$top:\n${messages.mkString("\n")}")
     }
   }

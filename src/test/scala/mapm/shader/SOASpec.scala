@@ -1,7 +1,7 @@
 package mapm.shader
 
 import mapm.Slow
-import mapm.fpu.LintCheck
+import mapm.fpu.{FpuDepth, LintCheck}
 import mapm.model.{CondGen, CondModel, FloatFormat, ShaderChainModel}
 import mapm.testutil.{Bubbles, ShaderCases}
 import org.scalatest.funsuite.AnyFunSuite
@@ -14,14 +14,18 @@ import mapm.sim.SoaRunner.{Op, Out}
   * after its operation, with its tag, in order, none lost; and Verilator lint. */
 @Slow
 class SOASpec extends AnyFunSuite {
-  test("latency and name: the colour chain is the longer path; fp32 42 (g = 0) and 45 (g = 3), fp16 32 (g = 3)") {
-    for ((f, g, want) <- Seq((FloatFormat.fp32, 0, 42), (FloatFormat.fp32, 3, 45), (FloatFormat.fp16, 3, 32))) {
-      assert(SOA.latency(f, g) == want && ShaderChain.latency(f, g) == want && CondCheck.latency() < want, s"$f g = $g")
-      assert(SOA.name(f, g) == s"SOA_${f.name}_g$g")
+  test("latency and name: fp32's colour chain is the longer path (42 at g = 0, 45 at g = 3), fp16's cond check (36)") {
+    for ((f, g, chain, cond) <- Seq((FloatFormat.fp32, 0, 42, 37), (FloatFormat.fp32, 3, 45, 37), (FloatFormat.fp16, 3, 32, 36))) {
+      assert(ShaderChain.latency(f, g) == chain && CondCheck.latency(FpuDepth.of(f)) == cond, s"$f g = $g")
+      assert(SOA.latency(f, g) == math.max(chain, cond), s"$f g = $g")
+      assert(SOA.name(f, g) == s"SOA_${f.name}_g$g" && SOA.name(f, g, Some(FpuDepth.of(f))) == s"SOA_${f.name}_g$g")
     }
+    assert(SOA.name(FloatFormat.fp32, 3, Some(FpuDepth(4, 3, 1))) == "SOA_e8m23_g3_a4m3c1")
     var instance = -1
     circt.stage.ChiselStage.emitCHIRRTL { val m = new SOA(FloatFormat(5, 4), 0, 8); instance = m.latency; m }
-    assert(instance == 23 && SOA.latency(FloatFormat(5, 4), 0) == 23, s"e5m4 g = 0: instance $instance")
+    assert(instance == 34 && SOA.latency(FloatFormat(5, 4), 0) == 34, s"e5m4 g = 0: instance $instance")
+    circt.stage.ChiselStage.emitCHIRRTL { val m = new SOA(FloatFormat(5, 4), 0, 8, Some(FpuDepth(4, 3, 1))); instance = m.latency; m }
+    assert(instance == 23, s"e5m4 g = 0 with a 16-cycle cond check: instance $instance")
   }
 
   /** Seeded operations: colour inputs from ShaderCases; positions (and, 70 % of the time, h) from
