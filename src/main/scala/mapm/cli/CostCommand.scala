@@ -25,6 +25,7 @@ object CostCommand extends Command {
       @arg(doc = "SOAs per SOM of a whole MAPM") soa: Option[Int] = None,
       @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
+      @arg(name = "fpu-weight", doc = "logic per pipeline stage of the conventional FP units (cond, fadd, fmul, the SOA's cond check), about one full adder per unit; smaller is deeper (docs/fpu.md)") fpuWeight: Double = mapm.params.NumberParams.DefaultFpuStageWeight,
       @arg(doc = "target clocks in GHz, comma-separated") clock: String = CostFlow.defaultClocks.mkString(","),
       @arg(doc = "Liberty file (default: OSU 0.18 um, installed on first use)") lib: Option[String] = None,
       @arg(doc = "ABC script: plain, buffer, or both (keep the faster netlist)") abc: String = "both",
@@ -36,6 +37,7 @@ object CostCommand extends Command {
   ): Int = {
     val clocks = CostFlow.parseClocks(clock)
     MapmError.check(g >= 0 && g <= 8, s"cost: --g must be 0..8, got $g")
+    MapmError.check(fpuWeight >= 0.5 && fpuWeight <= 100, s"cost: --fpu-weight must be 0.5..100, got $fpuWeight")
     MapmError.check(ops >= 64 && ops <= 10000000, s"cost: --ops must be 64..10000000, got $ops")
     MapmError.check(Seq("frame", "random").contains(stimulus), s"cost: --stimulus must be frame or random, got '$stimulus'")
     MapmError.check(abc == "both" || Synthesis.AbcScripts.contains(abc), s"cost: --abc must be plain, buffer or both, got '$abc'")
@@ -44,7 +46,7 @@ object CostCommand extends Command {
     libPath.foreach(p => MapmError.check(Files.isRegularFile(p), s"cost: Liberty file $p not found"))
     (unit, counts.flatten.size) match {
       case (Some(u), 0) =>
-        val cu = CostUnits(u, format, g)
+        val cu = CostUnits(u, format, g, fpuWeight)
         val flow = CostFlow(libPath, clocks, abc, Paths.get(out))
         val useFrame = stimulus == "frame" && cu.checksModel
         val frame = if (useFrame) Some(CostFlow.frame(scene, format)) else None
@@ -56,12 +58,13 @@ object CostCommand extends Command {
         println(s"wrote ${Paths.get(out).resolve("cost.json")} and cost.md")
         0
       case (None, 3) =>
-        val params = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g)
+        val base0 = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g)
+        val params = base0.copy(numbers = base0.numbers.copy(fpuStageWeight = fpuWeight))
         val base = Paths.get(out)
         val frame = if (stimulus == "frame") Some(CostFlow.frame(scene, format)) else None
         val source = if (stimulus == "frame") s"SOs/TS ops of $scene" else s"random (seed $seed)"
         val units = Seq("soa", "tsa").map { k =>
-          val cu = CostUnits(k, format, g)
+          val cu = CostUnits(k, format, g, fpuWeight)
           System.err.println(s"cost: unit $k ...")
           val flow = CostFlow(libPath, clocks, abc, base.resolve(k))
           val (r, gl) = flow.unitWithActivity(cu, format, if (k == "soa") Some(g) else None,

@@ -75,7 +75,7 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
       library.cells.get(c.cellType).filter(_.isSequential).flatMap(_.outputs.headOption).flatMap(o => c.pins.get(o.name))
         .map(n => s"$p (${netlist.describe(n)})")
     }.getOrElse(p)
-    val r = UnitCost(u.kind, u.top, format.toString, g, libPath.getFileName.toString, syn.abc, sta.fmaxGHz,
+    val r = UnitCost(u.kind, u.top, format.toString, g, u.latency, libPath.getFileName.toString, syn.abc, sta.fmaxGHz,
       area.total, area.sequential, area.counts, sta.clocks,
       ujson.Obj("source" -> source, "validRate" -> u.validRate, "validRateFrom" -> u.validRateSource,
         "method" -> "zero-delay gate-level simulation of the netlist, 64 lanes; toggles per net per cycle",

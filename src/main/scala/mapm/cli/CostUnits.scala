@@ -3,6 +3,7 @@ package mapm.cli
 import mapm.MapmError
 import mapm.fpu.{FAdd, FMul, FpuDepth}
 import mapm.model._
+import mapm.params.NumberParams
 import mapm.shader.{CondCheck, OnlineDiv, OnlineMul, SOA, ShaderChain}
 import mapm.tsearch.TSA
 
@@ -47,11 +48,18 @@ object CostUnits {
   private val soaIn = IndexedSeq("kernel", "brdf", "h", "power_0", "power_1", "power_2", "contrib_0", "contrib_1",
     "contrib_2", "qx", "qy", "qz", "px", "py", "pz").map("io_in_bits_" + _) :+ "io_in_bits_tag"
 
-  /** The unit `kind` in `format` with `g` guard digits (the SOA's online units). */
-  def apply(kind: String, format: FloatFormat, g: Int): CostUnit = kind match {
+  /** The unit `kind` in `format` with `g` guard digits (the SOA's online units) and conventional
+    * floating-point units pipelined to `fpuWeight` of logic per stage ([[FpuDepth.of]]). */
+  def apply(kind: String, format: FloatFormat, g: Int,
+            fpuWeight: Double = NumberParams.DefaultFpuStageWeight): CostUnit = {
+    val depth = FpuDepth.of(format, fpuWeight)
+    unit(kind, format, g, depth)
+  }
+
+  private def unit(kind: String, format: FloatFormat, g: Int, depth: FpuDepth): CostUnit = kind match {
     case "soa" =>
       MapmError.check(format.manWidth >= 4, s"cost: the SOA needs at least 4 fraction bits, format $format has ${format.manWidth}")
-      new CostUnit("soa", SOA.name(format, g), () => new SOA(format, g, tagWidth), SOA.latency(format, g), soaIn,
+      new CostUnit("soa", SOA.name(format, g, Some(depth)), () => new SOA(format, g, tagWidth, Some(depth)), SOA.latency(format, g, depth), soaIn,
         (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_colour_$c") ++
           (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_flags_$c") ++ Seq("io_out_bits_cond", "io_out_bits_tag"),
         SoaRate, rateNote)
@@ -60,14 +68,14 @@ object CostUnits {
         IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
         IndexedSeq("io_out_bits_tcl", "io_out_bits_tcr", "io_out_bits_error", "io_out_bits_tag"), TsaRate, rateNote)
     case "cond" =>
-      new CostUnit("cond", CondCheck.name(format, tagWidth, FpuDepth.of(format)), () => new CondCheck(format, tagWidth), CondCheck.latency(FpuDepth.of(format)),
+      new CostUnit("cond", CondCheck.name(format, tagWidth, depth), () => new CondCheck(format, tagWidth, depth), CondCheck.latency(depth),
         IndexedSeq("qx", "qy", "qz", "px", "py", "pz", "h", "tag").map("io_in_bits_" + _),
         IndexedSeq("io_out_bits_cond", "io_out_bits_tag"), SoaRate, rateNote + ", as the SOA")
     case "fadd" =>
-      new CostUnit("fadd", s"FAdd_${format.name}_s${FAdd.defaultStages(format)}", () => new FAdd(format), FAdd.defaultStages(format),
+      new CostUnit("fadd", s"FAdd_${format.name}_s${depth.add}", () => new FAdd(format, depth.add), depth.add,
         IndexedSeq("io_in_bits_a", "io_in_bits_b", "io_in_bits_sub"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
     case "fmul" =>
-      new CostUnit("fmul", s"FMul_${format.name}_s${FMul.defaultStages(format)}", () => new FMul(format), FMul.defaultStages(format),
+      new CostUnit("fmul", s"FMul_${format.name}_s${depth.mul}", () => new FMul(format, depth.mul), depth.mul,
         IndexedSeq("io_in_bits_a", "io_in_bits_b"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
     case "mul" | "div" =>
       MapmError.check(format.manWidth >= 4, s"cost: the online units need at least 4 fraction bits, format $format has ${format.manWidth}")

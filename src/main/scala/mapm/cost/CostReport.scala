@@ -5,13 +5,14 @@ import java.nio.file.{Files, Path}
 
 /** The figures of one synthesized unit, as `cost.json` and `cost.md` carry them.
   *
+  * @param latency    the unit's latency in cycles (input to output)
   * @param areaUm2    total cell area; `seqAreaUm2` the flip-flops' part
   * @param cells      cell count per library cell
   * @param clocks     timing and power at each requested clock (power at the unit's activity)
   * @param activity   how the switching activity was obtained, and its averages
   * @param check      the gate-level check: operations simulated and mismatches found
   */
-final case class UnitCost(unit: String, top: String, format: String, g: Option[Int], library: String,
+final case class UnitCost(unit: String, top: String, format: String, g: Option[Int], latency: Int, library: String,
                           abc: String, fmaxGHz: Double, areaUm2: Double, seqAreaUm2: Double,
                           cells: Map[String, Int], clocks: Seq[Sta.AtClock], activity: ujson.Obj,
                           check: ujson.Obj, seconds: ujson.Obj, criticalStart: String, criticalEnd: String) {
@@ -24,7 +25,7 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
   def dynamicMwAt(ghz: Double): Double = dynamicPjPerCycle * ghz
 
   def json: ujson.Obj = ujson.Obj(
-    "unit" -> unit, "top" -> top, "format" -> format, "g" -> g.map(ujson.Num(_)).getOrElse(ujson.Null),
+    "unit" -> unit, "top" -> top, "format" -> format, "g" -> g.map(ujson.Num(_)).getOrElse(ujson.Null), "latency" -> latency,
     "library" -> library, "abc" -> abc, "fmaxGHz" -> fmaxGHz,
     "atFmax" -> ujson.Obj("clockGHz" -> fmaxGHz, "dynamicPowerMw" -> dynamicMwAt(fmaxGHz),
       "leakagePowerMw" -> clocks.head.leakageMw, "dynamicPjPerCycle" -> dynamicPjPerCycle),
@@ -43,7 +44,7 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     * total dynamic power, cell leakage, area. */
   def markdown: String = {
     val sb = new StringBuilder
-    sb ++= s"$unit ($top), format $format${g.map(x => s", g = $x").getOrElse("")}, library $library, ABC script $abc\n\n"
+    sb ++= s"$unit ($top), format $format${g.map(x => s", g = $x").getOrElse("")}, latency $latency cycles, library $library, ABC script $abc\n\n"
     sb ++= "| clock (GHz) | slack met? | worst slack (ns) | dynamic power (mW) | cell leakage (uW) | area (um^2) |\n"
     sb ++= "|---:|:---:|---:|---:|---:|---:|\n"
     for (c <- clocks)

@@ -77,6 +77,12 @@ class CostCommandSpec extends AnyFunSuite {
     checkUnit(out, j)
   }
 
+  test("cost --unit fadd at e3m2 with --fpu-weight 1: the deeper adder (10 stages) keeps the function on every operation") {
+    val (out, j) = unitRun("fadd", "3,2", "--fpu-weight", "1")
+    assert(j("top").str == "FAdd_e3m2_s10" && j("latency").num == 10, j("top").str)
+    checkUnit(out, j)
+  }
+
   test("the gate-level check finds a netlist that synthesis did not keep") {
     val (out, j) = unitRun("tsa", "3,3", "--abc", "plain")
     val lib = Liberty.read(tools().osu018Lib)
@@ -142,6 +148,7 @@ class CostCommandSpec extends AnyFunSuite {
     assert(err("--unit", "tsa", "--lib", "/nonexistent/x.lib").contains("Liberty file /nonexistent/x.lib not found"))
     assert(err("--unit", "tsa", "--stimulus", "noise").contains("--stimulus"))
     assert(err("--unit", "tsa", "--abc", "fancy").contains("--abc"))
+    assert(err("--unit", "cond", "--fpu-weight", "0.1").contains("--fpu-weight must be 0.5..100"))
     assert(err("--tsm", "2").contains("all three"))
     assert(err().contains("give --unit"))
     assert(err("--unit", "tsa", "--tsm", "1", "--som", "1", "--soa", "1").contains("not both"))
