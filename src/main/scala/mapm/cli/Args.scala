@@ -34,6 +34,13 @@ object Args {
       catch { case e: MapmError => Left(e.getMessage) }
   }
 
+  implicit object ArithReader extends TokensReader.Simple[mapm.model.Arith] {
+    def shortName = "arith"
+    def read(strs: Seq[String]): Either[String, mapm.model.Arith] =
+      try Right(mapm.model.Arith.parse(strs.last))
+      catch { case e: MapmError => Left(e.getMessage) }
+  }
+
   implicit object SlotLayoutReader extends TokensReader.Simple[SlotLayout] {
     def shortName = "layout"
     def read(strs: Seq[String]): Either[String, SlotLayout] =

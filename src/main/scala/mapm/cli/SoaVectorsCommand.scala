@@ -3,14 +3,16 @@ package mapm.cli
 import java.nio.file.Paths
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{CondModel, FloatFormat, ShaderChainModel, ShaderVectors}
+import mapm.model.{Arith, CondModel, ConvChainModel, FloatFormat, ShaderChainModel, ShaderVectors}
 import mapm.shader.SOA
 import mapm.sim.SoaRunner
-import Args.FloatFormatReader
+import Args.{ArithReader, FloatFormatReader}
 
 /** `mapm soa-vectors`: runs a shader-chain vector file (../shared/vectors format) through the
-  * bit-accurate model, comparing every column (result, flags, s, m, E and the digit strings),
-  * and with `--hw` through the emitted SystemVerilog of the [[SOA]] in Verilator (result and
+  * bit-accurate model, comparing every column (result, flags, s, m, E and the digit strings;
+  * with `--arith conventional` the conventional chain's files, ../shared/vectors/conventional,
+  * and [[ConvChainModel]]), and with `--hw` through the emitted SystemVerilog of the [[SOA]] of
+  * that arithmetic in Verilator (result and
   * flags of each row, driven on all three channels). The vectors carry no positions: the SOA
   * gets query and photon at the origin, so cond must be 0 < h·h ([[CondModel]]). Prints the mismatch count and the first mismatch of
   * each; exits 1 if there is any. */
@@ -22,23 +24,28 @@ object SoaVectorsCommand extends Command {
   def soaVectors(
       @arg(doc = "vector file (CSV: id,kernel,brdf,h,power,contrib,expected,flags,s,m,E[,p1,q,p2,p3])") in: String,
       @arg(doc = "float format of the file: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
-      @arg(name = "g", doc = "guard digits the file was made with") g: Int = 3,
+      @arg(name = "g", doc = "guard digits the file was made with (online arithmetic)") g: Int = 3,
+      @arg(doc = "arithmetic: online (the digit-serial chain) or conventional (correctly rounded, ../shared/vectors/conventional)") arith: Arith = Arith.Online,
       @arg(doc = "also run the emitted Verilog in Verilator") hw: Flag
   ): Int = {
     MapmError.check(g >= 0 && g <= 8, s"soa-vectors: --g must be 0..8, got $g")
     MapmError.check(format.manWidth >= 4, s"soa-vectors: format $format needs at least 4 fraction bits")
     val rows = ShaderVectors.read(Paths.get(in), format)
-    val model = new ShaderChainModel(format, g)
+    val online = new ShaderChainModel(format, g)
+    def trace(r: ShaderVectors.Row): ShaderChainModel.Trace = arith match {
+      case Arith.Online => online.trace(r.kernel, r.brdf, r.h, r.power, r.contrib)
+      case Arith.Conventional => ConvChainModel.trace(format, r.kernel, r.brdf, r.h, r.power, r.contrib)
+    }
 
     val t0 = System.nanoTime()
-    val modelBad = rows.iterator.flatMap(r => ShaderVectors.mismatch(r, model.trace(r.kernel, r.brdf, r.h, r.power, r.contrib), format))
+    val modelBad = rows.iterator.flatMap(r => ShaderVectors.mismatch(r, trace(r), format))
     var modelCount = 0; var modelFirst: Option[String] = None
     modelBad.foreach { m => modelCount += 1; if (modelFirst.isEmpty) modelFirst = Some(m) }
     report("model", rows.length, modelCount, modelFirst, (System.nanoTime() - t0) / 1e9)
 
     val hwCount = if (!hw.value) 0 else {
       val t1 = System.nanoTime()
-      val sim = SoaRunner(format, g)
+      val sim = SoaRunner(format, g, arith = arith)
       val t2 = System.nanoTime()
       var k = 0; var count = 0; var first: Option[String] = None
       val ops = rows.iterator.zipWithIndex.map { case (r, i) =>
@@ -58,7 +65,7 @@ object SoaVectorsCommand extends Command {
         k += 1
       }
       if (k != rows.length) { count += rows.length - k; if (first.isEmpty) first = Some(s"${rows.length - k} rows produced no result") }
-      println(f"hardware: ${SOA.name(format, g)}, Verilator build ${(t2 - t1) / 1e9}%.1f s")
+      println(f"hardware: ${SOA.name(format, g, arith = arith)}, Verilator build ${(t2 - t1) / 1e9}%.1f s")
       report("hardware", rows.length, count, first, (System.nanoTime() - t2) / 1e9)
       count
     }

@@ -15,24 +15,14 @@ package mapm.model
   * (power, contribution), in a direct-mapped table of [[HardwareShadeArith.DoneSlots]] entries, so a
   * repeated pair costs one lookup. Thread-safe: the cache is one record behind a volatile field with
   * a concurrent map and a table of immutable entries (a thread that misses recomputes the same value).
-  *
-  * [[condClearBounds]]: CondModel rounds the same five operations to nearest with flush to zero
-  * as [[RoundedShadeArith]] does (each within a factor 1 -/+ u, flushed terms below 5 smallest
-  * normals, inputs with exponent field 0 read as zero, exactly as [[FloatFormat.decode]] reads
-  * them), so the same bounds hold: d2 < lo surely passes, d2 > hi surely fails.
   */
-final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends ShadeArith {
+final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends CondModelCond {
   import HardwareShadeArith.Cached
 
   /** The colour chain's model. */
   val chain: ShaderChainModel = new ShaderChainModel(format, g)
 
   @volatile private var cached: Cached = new Cached(0L, 0L, 0L, chain.front(0L, 0L, 0L))
-
-  private val u = math.pow(2, -format.manWidth - 1)
-  private val condHi = math.pow(1 + u, 6) * (1 + 1e-12)
-  private val condLo = math.pow(1 - u, 6) * (1 - 1e-12)
-  private val condAbs = 8 * format.minNormal
 
   /** The cache record for (kernel, BRDF, h): the shared part of the chain and its MUL2 products. */
   private def lookup(kernel: Long, brdf: Long, h: Long): Cached = {
@@ -71,18 +61,6 @@ final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends Shad
     chain.channel(c.front, power, p2, contrib)
   }
 
-  def cond(qx: Long, qy: Long, qz: Long, px: Long, py: Long, pz: Long, h: Long): Boolean =
-    CondModel.cond(format, qx, qy, qz, px, py, pz, h)
-
-  override def condClearBounds(h: Long): (Double, Double) = {
-    val hh = SoftFloat.mul(format, h, h)
-    if (format.expField(hh) == format.expMax) super.condClearBounds(h)
-    else {
-      val h2 = format.decode(hh)
-      ((h2 - condAbs) / condHi, (h2 + condAbs) / condLo)
-    }
-  }
-
   def color(kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Long =
     channel(lookup(kernel, brdf, h), power, contrib).bits
 
@@ -109,6 +87,32 @@ final class HardwareShadeArith(val format: FloatFormat, val g: Int) extends Shad
     val r = channel(f, pr, cr); out(0) = r.bits; flags(0) = r.flags
     val gr = channel(f, pg, cg); out(1) = gr.bits; flags(1) = gr.flags
     val b = channel(f, pb, cb); out(2) = b.bits; flags(2) = b.flags
+  }
+}
+
+/** The cond check of both SOAs, online and conventional: [[CondModel]], the correctly rounded
+  * sequence of the conventional units (`mapm.shader.CondCheck`).
+  *
+  * [[condClearBounds]]: CondModel rounds the same five operations to nearest with flush to zero
+  * as [[RoundedShadeArith]] does (each within a factor 1 -/+ u, flushed terms below 5 smallest
+  * normals, inputs with exponent field 0 read as zero, exactly as [[FloatFormat.decode]] reads
+  * them), so the same bounds hold: d2 < lo surely passes, d2 > hi surely fails. */
+trait CondModelCond extends ShadeArith {
+  private lazy val u = math.pow(2, -format.manWidth - 1)
+  private lazy val condHi = math.pow(1 + u, 6) * (1 + 1e-12)
+  private lazy val condLo = math.pow(1 - u, 6) * (1 - 1e-12)
+  private lazy val condAbs = 8 * format.minNormal
+
+  def cond(qx: Long, qy: Long, qz: Long, px: Long, py: Long, pz: Long, h: Long): Boolean =
+    CondModel.cond(format, qx, qy, qz, px, py, pz, h)
+
+  override def condClearBounds(h: Long): (Double, Double) = {
+    val hh = SoftFloat.mul(format, h, h)
+    if (format.expField(hh) == format.expMax) super.condClearBounds(h)
+    else {
+      val h2 = format.decode(hh)
+      ((h2 - condAbs) / condHi, (h2 + condAbs) / condLo)
+    }
   }
 }
 

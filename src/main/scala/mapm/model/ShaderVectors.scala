@@ -7,11 +7,14 @@ import scala.jdk.CollectionConverters._
 /** The shader-chain vector files (../shared/vectors/README.md, shader-chain.md §8): CSV with the
   * columns `id, kernel, brdf, h, power, contrib, expected, flags, s, m, E[, p1, q, p2, p3]`.
   * Bit patterns are lowercase hex padded to the format's width; s, m, E and the digit strings
-  * are empty for special-case rows (rules 1 and 2).
+  * are empty for special-case rows (rules 1 and 2). The conventional chain's files
+  * (../shared/vectors/conventional/README.md) have the first eight columns only.
   */
 object ShaderVectors {
   val Header: Seq[String] = Seq("id", "kernel", "brdf", "h", "power", "contrib", "expected", "flags", "s", "m", "E")
   val DigitColumns: Seq[String] = Seq("p1", "q", "p2", "p3")
+  /** The columns of the conventional chain's files: inputs, result and flags. */
+  val ResultHeader: Seq[String] = Header.take(8)
 
   /** One row. `line` is the 1-based line in the file. */
   final case class Row(
@@ -30,8 +33,9 @@ object ShaderVectors {
     MapmError.check(lines.nonEmpty, s"$path: empty file (expected the header ${Header.mkString(",")})")
     val head = lines.head.split(",", -1).map(_.trim).toSeq
     val withDigits = head == Header ++ DigitColumns
-    MapmError.check(withDigits || head == Header,
-      s"$path:1: header '${lines.head}' is not '${(Header ++ DigitColumns).mkString(",")}' (digit columns optional)")
+    MapmError.check(withDigits || head == Header || head == ResultHeader,
+      s"$path:1: header '${lines.head}' is not '${(Header ++ DigitColumns).mkString(",")}' (digit columns optional; " +
+        s"conventional files end at flags)")
     lines.iterator.zipWithIndex.drop(1).filter(_._1.trim.nonEmpty).map { case (text, i) =>
       parseRow(path, i + 1, text, head.length, withDigits, format)
     }.toVector
@@ -51,7 +55,7 @@ object ShaderVectors {
       v
     }
     def optInt(c: Int): Option[Int] =
-      if (f(c).isEmpty) None
+      if (c >= cols || f(c).isEmpty) None
       else Some(f(c).toIntOption.getOrElse(bad(s"column ${(Header ++ DigitColumns)(c)} = '${f(c)}' is not an integer")))
     val flags = f(7).toIntOption.filter(v => v >= 0 && v <= 7).getOrElse(bad(s"flags = '${f(7)}' is not 0..7"))
     val digits =

@@ -55,6 +55,13 @@ object ShadeArith {
   def float64: ShadeArith = new RoundedShadeArith(FloatFormat.fp64)
   /** The SOA's arithmetic bit for bit, with `g` guard digits in the online colour chain. */
   def hardware(format: FloatFormat, g: Int): ShadeArith = new HardwareShadeArith(format, g)
+  /** The conventional SOA's arithmetic bit for bit ([[ConvShadeArith]]). */
+  def conventional(format: FloatFormat): ShadeArith = new ConvShadeArith(format)
+  /** The SOA's arithmetic of either kind, bit for bit. */
+  def hardware(format: FloatFormat, g: Int, arith: Arith): ShadeArith = arith match {
+    case Arith.Online => hardware(format, g)
+    case Arith.Conventional => conventional(format)
+  }
 }
 
 object RoundedShadeArith {

@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.fpu.FpuDepth
-import mapm.model.FloatFormat
+import mapm.model.{Arith, FloatFormat}
 import mapm.params.Rgb
 
 /** One shader operation for the [[SOA]]: the photon's kernel, BRDF and power (r, g, b), the
@@ -35,30 +35,35 @@ class SoaResult(format: FloatFormat, tagWidth: Int) extends Bundle {
   val tag = UInt(tagWidth.W)
 }
 
-/** The shader-operation accelerator (dissertation 3.6): the online-arithmetic colour chain
-  * [[ShaderChain]] (colour_c = ((kernel · BRDF) / h) · power_c · contribution_c, c = r, g, b)
-  * beside the conventional floating-point distance check [[CondCheck]] (|q − p|² < h², rounded
-  * as [[mapm.model.CondModel]]), both fed by the same operation in the same cycle.
+/** The shader-operation accelerator (dissertation 3.6): a colour chain (colour_c = ((kernel ·
+  * BRDF) / h) · power_c · contribution_c, c = r, g, b) beside the conventional floating-point
+  * distance check [[CondCheck]] (|q − p|² < h², rounded as [[mapm.model.CondModel]]), both fed by
+  * the same operation in the same cycle. The colour chain is the online-arithmetic
+  * [[ShaderChain]] with `arith` online (the default), and the conventional [[ConvShaderChain]]
+  * with `arith` conventional (the baseline the dissertation compared it with, Table 4.5).
   *
   * The two paths have different latencies; the shorter one's result is delayed by plain
   * registers so that the three colours, their flags, cond and the tag leave in the same cycle.
   * The tag travels through the colour chain; the cond check carries a one-bit dummy tag.
   *
-  * The cond check's floating-point units are pipelined to `condDepth` ([[FpuDepth]], by default
-  * [[FpuDepth.of]] the format: the depth at which they keep up with the online units' clock).
+  * The conventional floating-point units (the cond check's, and the conventional chain's) are
+  * pipelined to `condDepth` ([[FpuDepth]], by default [[FpuDepth.of]] the format: the depth at
+  * which they keep up with the online units' clock).
   *
   * Latency: [[SOA.latency]] = max(ShaderChain N + 18, CondCheck) cycles. At fp32 and fp64 the
   * chain is the longer path (fp32: 42 at g = 0, 45 at g = 3, beside the cond check's 37); at fp16
-  * (chain 32 at g = 3, cond check 36), bf16 and smaller formats the cond check is. Throughput: one operation per cycle, fully pipelined, never stalls;
+  * (chain 32 at g = 3, cond check 36), bf16 and smaller formats the cond check is. Conventional:
+  * [[ConvShaderChain.latency]] (60 at fp32). Throughput: one operation per cycle, fully pipelined,
+  * never stalls;
   * `out.valid` follows `in.valid` and results leave in input order.
   */
 class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
-          val condDepth: Option[FpuDepth] = None) extends Module {
+          val condDepth: Option[FpuDepth] = None, val arith: Arith = Arith.Online) extends Module {
   private val depth = condDepth.getOrElse(FpuDepth.of(format))
-  override def desiredName: String = SOA.name(format, g, condDepth)
+  override def desiredName: String = SOA.name(format, g, condDepth, arith)
 
   /** Cycles from an operation on `in` to its result on `out`. */
-  val latency: Int = SOA.latency(format, g, depth)
+  val latency: Int = SOA.latency(format, g, depth, arith)
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new SoaRequest(format, tagWidth)))
@@ -66,7 +71,10 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
   })
   private val req = io.in.bits
 
-  val chain = Module(new ShaderChain(format, g, tagWidth))
+  val chain: ColourChain = Module(arith match {
+    case Arith.Online => new ShaderChain(format, g, tagWidth)
+    case Arith.Conventional => new ConvShaderChain(format, depth, tagWidth)
+  })
   chain.io.in.valid := io.in.valid
   chain.io.in.bits.kernel := req.kernel
   chain.io.in.bits.brdf := req.brdf
@@ -99,13 +107,28 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
 }
 
 object SOA {
-  /** The module name, e.g. `SOA_e8m23_g3`; a cond-check depth other than the format's default
-    * adds its stages, e.g. `SOA_e8m23_g3_a4m3c1`. */
-  def name(format: FloatFormat, g: Int, condDepth: Option[FpuDepth] = None): String =
-    s"SOA_${format.name}_g$g" + condDepth.filter(_ != FpuDepth.of(format)).fold("")(d => s"_a${d.add}m${d.mul}c${d.cmp}")
+  /** The module name, e.g. `SOA_e8m23_g3` (online) or `ConvSOA_e8m23` (conventional, whose
+    * name has no g). A depth of the conventional units other than the format's default adds the
+    * stages that matter, e.g. `SOA_e8m23_g3_a4m3c1`, `ConvSOA_e8m23_a4m3c1d20`. */
+  def name(format: FloatFormat, g: Int, condDepth: Option[FpuDepth] = None, arith: Arith = Arith.Online): String = {
+    val d0 = FpuDepth.of(format)
+    arith match {
+      case Arith.Online =>
+        s"SOA_${format.name}_g$g" + condDepth.filter(d => (d.add, d.mul, d.cmp) != ((d0.add, d0.mul, d0.cmp)))
+          .fold("")(d => s"_a${d.add}m${d.mul}c${d.cmp}")
+      case Arith.Conventional =>
+        s"ConvSOA_${format.name}" + condDepth.filter(_ != d0).fold("")(d => s"_a${d.add}m${d.mul}c${d.cmp}d${d.div}")
+    }
+  }
 
   /** Cycles from input to output: the longer of the colour chain and the cond check. */
-  def latency(format: FloatFormat, g: Int, condDepth: FpuDepth): Int =
-    ShaderChain.latency(format, g) max CondCheck.latency(condDepth)
+  def latency(format: FloatFormat, g: Int, condDepth: FpuDepth, arith: Arith): Int = {
+    val chain = arith match {
+      case Arith.Online => ShaderChain.latency(format, g)
+      case Arith.Conventional => ConvShaderChain.latency(condDepth)
+    }
+    chain max CondCheck.latency(condDepth)
+  }
+  def latency(format: FloatFormat, g: Int, condDepth: FpuDepth): Int = latency(format, g, condDepth, Arith.Online)
   def latency(format: FloatFormat, g: Int): Int = latency(format, g, FpuDepth.of(format))
 }

@@ -26,6 +26,20 @@ class ShaderResult(format: FloatFormat, tagWidth: Int) extends Bundle {
   val tag = UInt(tagWidth.W)
 }
 
+/** A colour chain's ports: one shader operation in, its colours, flags and tag out. */
+class ColourChainIO(format: FloatFormat, tagWidth: Int) extends Bundle {
+  val in = Flipped(Valid(new ShaderRequest(format, tagWidth)))
+  val out = Valid(new ShaderResult(format, tagWidth))
+}
+
+/** The colour part of an SOA, online ([[ShaderChain]]) or conventional ([[ConvShaderChain]]): a
+  * fixed-latency pipeline, one operation per cycle, results in input order. */
+abstract class ColourChain extends Module {
+  val io: ColourChainIO
+  /** Cycles from an operation on `in` to its result on `out`. */
+  val latency: Int
+}
+
 /** The colour part of the shader-operation accelerator (dissertation 3.6, shader-chain.md):
   * colour_c = ((kernel · BRDF) / h) · power_c · contribution_c for c = r, g, b, digit-serial in
   * online arithmetic with N = n + g digits per unit. The three channels share MUL1 (kernel ·
@@ -41,7 +55,7 @@ class ShaderResult(format: FloatFormat, tagWidth: Int) extends Bundle {
   * g = 3). Throughput: one operation per cycle, fully pipelined, never stalls; `out.valid`
   * follows `in.valid` and tags leave in order.
   */
-class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends Module {
+class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends ColourChain {
   private val n = format.manWidth + 1
   private val ew = format.expWidth
   require(g >= 0 && g <= 8 && n >= 5 && tagWidth >= 1, s"ShaderChain: format $format, g = $g, tag width $tagWidth")
@@ -52,10 +66,7 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
   /** Cycles from an operation on `in` to its result on `out`. */
   val latency: Int = ShaderChain.latency(format, g)
 
-  val io = IO(new Bundle {
-    val in = Flipped(Valid(new ShaderRequest(format, tagWidth)))
-    val out = Valid(new ShaderResult(format, tagWidth))
-  })
+  val io = IO(new ColourChainIO(format, tagWidth))
 
   private val req = io.in.bits
   private val f = FloatFields(format)

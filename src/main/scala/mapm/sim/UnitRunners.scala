@@ -2,7 +2,8 @@ package mapm.sim
 
 import java.nio.file.Path
 import mapm.MapmError
-import mapm.model.{FloatFormat, TsaModel}
+import mapm.fpu.FpuDepth
+import mapm.model.{Arith, FloatFormat, TsaModel}
 import mapm.model.TsaModel.Outcome
 import mapm.shader.{SOA, ShaderChain}
 import mapm.tsearch.TSA
@@ -21,8 +22,8 @@ object SoaRunner {
   final case class Out(tag: Long, colour: Array[Long], flags: Array[Int], cond: Boolean, cycle: Long)
 
   /** Builds (or finds cached) the SOA's simulation. */
-  def apply(format: FloatFormat, g: Int, tagWidth: Int = 16): PipeRunner[Op, Out] =
-    PipeRunner(new SOA(format, g, tagWidth), SOA.latency(format, g))(_.io.in, _.io.out)(
+  def apply(format: FloatFormat, g: Int, tagWidth: Int = 16, arith: Arith = Arith.Online): PipeRunner[Op, Out] =
+    PipeRunner(new SOA(format, g, tagWidth, arith = arith), SOA.latency(format, g, FpuDepth.of(format), arith))(_.io.in, _.io.out)(
       op => op.inputs.toSeq.map(BigInt(_)) :+ BigInt(op.tag),
       // colour 0..2, flags 0..2, cond, tag
       (o, cycle) => Out(o(7).toLong, o.slice(0, 3).map(_.toLong).toArray, o.slice(3, 6).map(_.toInt).toArray,

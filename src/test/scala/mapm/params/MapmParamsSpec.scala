@@ -26,7 +26,7 @@ class MapmParamsSpec extends AnyFunSuite {
     assert(MapmParams.default.name == "t16s16a2_e8m23_g3")
     // A lighter stage weight deepens the cond check's units (FpuDepth.of: fp32 at 1.0 per stage).
     val deep = MapmParams(numbers = NumberParams(fpuStageWeight = 1.0))
-    assert(mapm.fpu.FpuDepth.of(FloatFormat.fp32, deep.numbers.fpuStageWeight) == mapm.fpu.FpuDepth(11, 14, 1))
+    assert(mapm.fpu.FpuDepth.of(FloatFormat.fp32, deep.numbers.fpuStageWeight) == mapm.fpu.FpuDepth(11, 14, 1, 33))
     assert(deep.name == "t16s16a2_e8m23_g3_fw1" && MapmParams(numbers = NumberParams(fpuStageWeight = 1.5)).name.endsWith("_fw1p5"))
   }
 

@@ -39,7 +39,7 @@ class CondCheckSpec extends AnyFunSuite with Sim {
       circt.stage.ChiselStage.emitCHIRRTL { val m = new CondCheck(f, 4); latency = m.latency; m }
       assert(latency == want && CondCheck.latency(FpuDepth.of(f)) == want, s"$f: instance $latency")
     }
-    assert(CondCheck.latency(FpuDepth(2, 0, 0)) == 6)
+    assert(CondCheck.latency(FpuDepth(2, 0, 0, 0)) == 6)
   }
 
   /** The inputs of a tiny format `f` whose operand h has sign bit `hSign` (half of all 2^(7·w))
@@ -131,7 +131,7 @@ class CondCheckSpec extends AnyFunSuite with Sim {
   }
 
   test("at other depths (latency 7 and 0) it computes the same, e2m1 sweep") {
-    for (d <- Seq(FpuDepth(2, 1, 0), FpuDepth(0, 0, 0)))
+    for (d <- Seq(FpuDepth(2, 1, 0, 0), FpuDepth(0, 0, 0, 0)))
       stream(FloatFormat(2, 1), 3, 65000, e2m1Sweep(4129), seed = 4, Some(d))
   }
 

@@ -20,11 +20,11 @@ class SOASpec extends AnyFunSuite {
       assert(SOA.latency(f, g) == math.max(chain, cond), s"$f g = $g")
       assert(SOA.name(f, g) == s"SOA_${f.name}_g$g" && SOA.name(f, g, Some(FpuDepth.of(f))) == s"SOA_${f.name}_g$g")
     }
-    assert(SOA.name(FloatFormat.fp32, 3, Some(FpuDepth(4, 3, 1))) == "SOA_e8m23_g3_a4m3c1")
+    assert(SOA.name(FloatFormat.fp32, 3, Some(FpuDepth(4, 3, 1, 0))) == "SOA_e8m23_g3_a4m3c1")
     var instance = -1
     circt.stage.ChiselStage.emitCHIRRTL { val m = new SOA(FloatFormat(5, 4), 0, 8); instance = m.latency; m }
     assert(instance == 34 && SOA.latency(FloatFormat(5, 4), 0) == 34, s"e5m4 g = 0: instance $instance")
-    circt.stage.ChiselStage.emitCHIRRTL { val m = new SOA(FloatFormat(5, 4), 0, 8, Some(FpuDepth(4, 3, 1))); instance = m.latency; m }
+    circt.stage.ChiselStage.emitCHIRRTL { val m = new SOA(FloatFormat(5, 4), 0, 8, Some(FpuDepth(4, 3, 1, 0))); instance = m.latency; m }
     assert(instance == 23, s"e5m4 g = 0 with a 16-cycle cond check: instance $instance")
   }
 
