@@ -4,7 +4,7 @@ import java.nio.file.{Files, Path, Paths}
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cli.Args.rtlOptionsParser
-import mapm.model.{ImageIO, Metrics, RgbImage, Vec3}
+import mapm.model.{Arith, ImageIO, Metrics, Render, RgbImage, ShadeArith, Vec3}
 import mapm.sim.MapmRtl
 
 /** `mapm render`: the main job. Renders a frame through the emitted RTL of a whole MAPM in
@@ -43,16 +43,22 @@ object RenderCommand extends Command {
     val ref = RtlRun.reference(prep, opts.threads)
     val rtl = run.outcome.frame.filter(_.length == 3 * f.pixels)
     val psnr = rtl.map(Metrics.psnr(_, ref))
+    // The conventional render also gives the online arithmetic's image quality (its model frame).
+    val onlinePsnr = if (opts.arith == Arith.Online) None else Some(Metrics.psnr(
+      Render.run(f.map, f.querySet, f.pixels, ShadeArith.hardware(f.format, opts.g), opts.threads).rgb, ref))
     val outDir = Paths.get(opts.out)
     val files = rtl.toSeq.flatMap(rgb => writeImages(prep, rgb, outDir))
     val stats = outDir.resolve(s"${prep.name}-rtl-stats.json")
     val json = ujson.Obj.from(run.outcome.stats.map(_.json.value.toSeq).getOrElse(Seq.empty))
+    def dB(v: Double) = if (v.isInfinite) ujson.Str("inf") else ujson.Num(v)
     json.value ++= Seq("scene" -> ujson.Str(opts.scene), "format" -> ujson.Str(f.format.toString), "g" -> ujson.Num(opts.g),
+      "arith" -> ujson.Str(opts.arith.name),
       "config" -> ujson.Str(p.counts.label), "width" -> ujson.Num(f.width), "height" -> ujson.Num(f.height),
       "modelTsOps" -> ujson.Num(prep.model.tsOps.toDouble), "modelShaderOps" -> ujson.Num(prep.model.count.toDouble),
       "modelShaderOpsPassingCond" -> ujson.Num(prep.model.passing.toDouble),
       "perSoCheck" -> ujson.Str(run.outcome.verdict), "frameEqualsModel" -> ujson.Bool(run.frameEqual),
-      "psnrIndirectVsFloat64" -> psnr.map(v => if (v.isInfinite) ujson.Str("inf") else ujson.Num(v)).getOrElse(ujson.Null),
+      "psnrIndirectVsFloat64" -> psnr.map(dB).getOrElse(ujson.Null),
+      "psnrOnlineModelVsFloat64" -> onlinePsnr.map(dB).getOrElse(ujson.Null),
       "harnessWallSeconds" -> run.outcome.stats.map(s => ujson.Num(s.wallSeconds)).getOrElse(ujson.Null),
       "stageSeconds" -> ujson.Obj.from((prep.times.stages ++ run.times).map { case (k, v) => k -> ujson.Num(v) }),
       "wallSeconds" -> ujson.Num((System.nanoTime() - wall0) / 1e9))
@@ -64,7 +70,9 @@ object RenderCommand extends Command {
     println(s"per-SO check: ${run.outcome.verdict}")
     println(s"frame against the model frame: ${if (run.frameEqual) "bit-equal" else run.frameDiff.getOrElse("")}")
     run.tsOpsEqual.foreach(e => println(s"TS ops against the model: ${if (e) "equal" else "DIFFERENT"}"))
-    psnr.foreach(v => println(f"PSNR of the RTL indirect image against float64: ${if (v.isInfinite) "inf" else f"$v%.2f dB"}"))
+    def dBText(v: Double) = if (v.isInfinite) "inf" else f"$v%.2f dB"
+    psnr.foreach(v => println(s"PSNR of the RTL indirect image (${opts.arith} arithmetic) against float64: ${dBText(v)}"))
+    onlinePsnr.foreach(v => println(s"PSNR of the online arithmetic's indirect image (model, g = ${opts.g}) against float64: ${dBText(v)}"))
     println((prep.times.stages ++ run.times).map { case (k, v) => f"$k $v%.2fs" }.mkString("time: ", ", ", f"; wall ${(System.nanoTime() - wall0) / 1e9}%.2fs"))
     (files :+ stats).foreach(x => println(s"wrote $x"))
     if (!run.passed) MapmError.fail(s"render: ${run.failure} (files in ${prep.work})")

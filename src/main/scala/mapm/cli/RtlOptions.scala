@@ -4,9 +4,9 @@ import java.nio.file.Path
 
 import mainargs.{arg, main}
 import mapm.format.SlotLayout
-import mapm.model.{FloatFormat, Parallel}
+import mapm.model.{Arith, FloatFormat, Parallel}
 import mapm.sim.Harness
-import Args.{FloatFormatReader, SlotLayoutReader}
+import Args.{ArithReader, FloatFormatReader, SlotLayoutReader}
 
 /** The options `render` and `sweep` share ([[RtlRun]]): the scene and its number format, the
   * harness's memory model and limits ([[Harness.RunOptions]]), the output folder and the model's
@@ -17,6 +17,7 @@ final case class RtlOptions(
     @arg(doc = "number format: fp32, bf16, fp16, fp24, fp64 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
     @arg(doc = "memory records: packed (format slots of 2, 4 or 8 bytes, the smallest that fits) or wide (at least 4)") layout: SlotLayout = SlotLayout.Packed,
     @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
+    @arg(doc = "arithmetic of the SOAs and TSAs: online (the dissertation's) or conventional (correctly rounded floating point)") arith: Arith = Arith.Online,
     @arg(doc = "memory latency in cycles") latency: Int = 100,
     @arg(doc = "draw each request's latency from [latency, this] (0: fixed latency)") latencyMax: Int = 0,
     @arg(doc = "probability of a gap in the query stream each cycle") queryGap: Double = 0,
@@ -36,5 +37,5 @@ final case class RtlOptions(
       respGap, simThreads)
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
-  def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads, layout)
+  def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads, layout, arith)
 }

@@ -14,7 +14,7 @@ import mapm.params.MapmParams
 object RtlRun {
   /** A frame ready for the hardware: its files in `work` and the model's results. */
   final case class Prepared(name: String, config: SceneConfig, frame: Frame, layout: SlotLayout, image: Path, expected: Path,
-                            model: ExpectedSo.Result, work: Path, times: StageTimes)
+                            model: ExpectedSo.Result, work: Path, times: StageTimes, arith: Arith = Arith.Online)
 
   /** The configurations to run and the frame they run on, in one number format. */
   final case class Setup(params: Seq[MapmParams], prep: Prepared)
@@ -34,16 +34,18 @@ object RtlRun {
   private def secs(t0: Long): Double = (System.nanoTime() - t0) / 1e9
 
   /** Loads `scene`, resolves its number format once (`format`, else the scene's, else fp32), makes
-    * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits and memory records in
-    * `layout`, then runs the model side once; files go to `outDir/<scene>-rtl/`. */
+    * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits, arithmetic `arith`
+    * and memory records in `layout`, then runs the model side once; files go to
+    * `outDir/<scene>-rtl/` (`<scene>-conv-rtl/` for the conventional arithmetic, whose name
+    * carries `-conv` in every output file). */
   def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int,
-            layout: SlotLayout = SlotLayout.Packed): Setup = {
+            layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online): Setup = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout) }
+    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith) }
     val frame = Frame.prepare(config, fmt, threads)
-    val name = ModelRun.sceneName(Paths.get(scene))
+    val name = ModelRun.sceneName(Paths.get(scene)) + (if (arith == Arith.Online) "" else "-conv")
     val work = Paths.get(outDir).resolve(s"$name-rtl")
     Files.createDirectories(work)
     val t0 = System.nanoTime()
@@ -51,21 +53,21 @@ object RtlRun {
     MemoryImage.from(frame.map, frame.querySet, layout).write(image)
     val t1 = System.nanoTime()
     val expected = work.resolve("expected.bin")
-    val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"))
+    val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith)
     Setup(params, Prepared(name, config, frame, layout, image, expected, model, work,
-      frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1))))
+      frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)), arith))
   }
 
   /** The frame of [[setup]] alone, for callers that make their own configurations in its format. */
   def prepare(scene: String, format: Option[FloatFormat], g: Int, outDir: String, threads: Int,
-              layout: SlotLayout = SlotLayout.Packed): Prepared =
-    setup(scene, format, g, Seq.empty, outDir, threads, layout).prep
+              layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online): Prepared =
+    setup(scene, format, g, Seq.empty, outDir, threads, layout, arith).prep
 
   /** Emits, builds and runs configuration `p` (in the frame's format, as [[setup]] makes it) on a
     * prepared frame; the harness writes into `dir`. */
   def runConfig(prep: Prepared, p: MapmParams, opts: Harness.RunOptions, dir: Path, log: String => Unit): ConfigRun = {
-    MapmError.check(p.numbers.format == prep.frame.format && p.memory.layout == prep.layout,
-      s"${p.name}: the frame was prepared in ${prep.frame.format} with the ${prep.layout} layout, the configuration reads ${p.numbers.format} in the ${p.memory.layout} one")
+    MapmError.check(p.numbers.format == prep.frame.format && p.memory.layout == prep.layout && p.numbers.arith == prep.arith,
+      s"${p.name}: the frame was prepared in ${prep.frame.format} ${prep.arith} with the ${prep.layout} layout, the configuration reads ${p.numbers.format} ${p.numbers.arith} in the ${p.memory.layout} one")
     val t0 = System.nanoTime()
     val (sv, top) = MapmRtl.emit(p, log)
     val t1 = System.nanoTime()

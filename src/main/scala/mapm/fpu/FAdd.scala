@@ -9,6 +9,14 @@ class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
   val sub = Bool()
 }
 
+/** Where an [[FAdd]] result lies against the exact sum: `above` (rounded up in value, or
+  * overflowed to +infinity, or flushed to zero from below), `below` (the opposite), neither when
+  * it is exact. Meaningful for finite operands. */
+class RoundDirection extends Bundle {
+  val above = Bool()
+  val below = Bool()
+}
+
 /** Pipelined floating-point adder/subtractor: out = a + b (or a - b when `sub`), correctly rounded
   * to nearest even in format `fmt`, bit-exact with [[mapm.model.SoftFloat.add]] / `sub` (flush of
   * zero-exponent inputs and of results below the smallest normal, overflow to infinity, canonical
@@ -24,24 +32,35 @@ class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
   *  - rounding: the block increments, then the carry select and the choice of overflow, flush or
   *    the packed result.
   *
+  * With `direction` the unit also tells where the result lies against the exact sum
+  * ([[RoundDirection]], beside `out`), which lets a comparison of the rounded sum decide as the
+  * exact sum would (the conventional TSA). With `stallable` an `en` input freezes every register
+  * while low (the output holds).
+  *
   * Latency: `stages` cycles (the output is registered when stages >= 1), default
-  * [[FAdd.defaultStages]]. Throughput: one operation per cycle; `out.valid` is `in.valid` delayed
-  * by the latency.
+  * [[FAdd.defaultStages]]; enabled cycles when stallable. Throughput: one operation per cycle;
+  * `out.valid` is `in.valid` delayed by the latency.
   */
-class FAdd(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPipeline {
+class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false, val direction: Boolean = false)
+    extends Module with PlannedPipeline {
   def this(fmt: FloatFormat) = this(fmt, FAdd.defaultStages(fmt))
   def weights: Seq[Double] = FAdd.weights(fmt)
-  override def desiredName: String = s"FAdd_${fmt.name}_s$stages"
+  override def desiredName: String =
+    s"FAdd_${fmt.name}_s$stages${if (stallable) "_en" else ""}${if (direction) "_dir" else ""}"
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new FAddIn(fmt)))
     val out = Valid(UInt(fmt.width.W))
+    /** Pipeline enable (stallable units only). */
+    val en = if (stallable) Some(Input(Bool())) else None
+    /** The result against the exact sum (units with `direction` only). */
+    val dir = if (direction) Some(Output(new RoundDirection)) else None
   })
 
   private val n = fmt.manWidth + 1
   private val shiftW = log2Ceil(n + 4)
   private val expW = math.max(fmt.expWidth, shiftW) + 2
-  private val p = new StepPipe(cuts, io.in.valid)
+  private val p = new StepPipe(cuts, io.in.valid, io.en)
 
   private class Side extends Bundle {
     val special = Bool()
@@ -119,7 +138,14 @@ class FAdd(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPip
   // Rounding.
   private val prep = p(RoundPrep(fmt, side.sign, exp3.pad(expW), norm(n + 2, 4), norm(3), norm(2, 0).orR))
   private val (zero4, zeroSign4) = (p(zero3), p(zeroSign3)); side = p(side); p.next()
+  private val (magAbove, magBelow) = prep.magnitudeDirection
+  private val dir = Wire(new RoundDirection)
+  private val inexact = !side.special && !zero4
+  dir.above := inexact && Mux(side.sign, magBelow, magAbove)
+  dir.below := inexact && Mux(side.sign, magAbove, magBelow)
+  private val dirOut = p(dir)
   io.out.bits := p.last(Mux(side.special, side.specialBits, Mux(zero4, FPack.zero(fmt, zeroSign4), prep.finish)))
+  io.dir.foreach(_ := dirOut)
   io.out.valid := p.finish()
 }
 

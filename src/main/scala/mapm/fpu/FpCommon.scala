@@ -95,6 +95,16 @@ private[fpu] class RoundPrep(fmt: FloatFormat) extends Bundle {
   val infUp = Bool()
   val zero = Bool()                     // exp <= 0; zeroUp: exp + 1 <= 0
   val zeroUp = Bool()
+  val up = Bool()                       // the significand rounds up
+  val inexact = Bool()                  // guard or sticky: the significand was rounded
+
+  /** Whether the packed result's magnitude lies (above, below) the exact value's: an overflow to
+    * infinity is above, a flush to zero below, else the rounding's direction. */
+  def magnitudeDirection: (Bool, Bool) = {
+    val overflow = Mux(carry, infUp, inf)
+    val flush = Mux(carry, zeroUp, zero)
+    (overflow || (!flush && up), flush || (!overflow && inexact && !up))
+  }
 
   /** The packed result. */
   def finish: UInt = {
@@ -123,6 +133,8 @@ private[fpu] object RoundPrep {
     r.fracInc := Cat(ranges(m).reverse.map { case (lo, hi) => frac(hi, lo) + 1.U })
     r.carries := Cat(ranges(m).reverse.map { case (lo, _) => if (lo == 0) up else up && frac(lo - 1, 0).andR })
     r.carry := up && frac.andR
+    r.up := up
+    r.inexact := guard || sticky
     r.exp := exp(fmt.expWidth - 1, 0).asUInt
     r.expUp := (exp(fmt.expWidth - 1, 0).asUInt + 1.U)(fmt.expWidth - 1, 0)
     r.inf := exp >= fmt.expMax.S

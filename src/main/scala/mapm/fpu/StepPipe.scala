@@ -55,8 +55,10 @@ object PipelinePlan {
   * step and [[StepPipe.finish]] checks that the datapath took exactly as many steps as the plan has.
   * Data registers load every cycle, without an enable: an enable would make the valid bit drive
   * every data register of the stage (a fan-out of thousands in a deep multiplier, measured at
-  * 65 MHz), and the valid bit beside the data tells which cycles carry an operation. */
-final class StepPipe(val cuts: Seq[Boolean], inValid: Bool) {
+  * 65 MHz), and the valid bit beside the data tells which cycles carry an operation. With an
+  * `enable` (a unit inside a pipeline that stalls, such as the conventional TSA in its Tree Search
+  * Module) every register, valid bit included, loads only while it is high. */
+final class StepPipe(val cuts: Seq[Boolean], inValid: Bool, enable: Option[Bool] = None) {
   private var step = 0
   private var validNow: Bool = inValid
 
@@ -66,13 +68,17 @@ final class StepPipe(val cuts: Seq[Boolean], inValid: Bool) {
   /** `x` across the end of the current step. */
   def apply[T <: Data](x: T): T = {
     require(step < cuts.length, s"datapath has more than the ${cuts.length} planned steps")
-    if (cuts(step)) { val r = Reg(chiselTypeOf(x)); r := x; r } else x // keeps x's width, as RegNext would not
+    if (cuts(step)) { // keeps x's width, as RegNext would not
+      val r = Reg(chiselTypeOf(x))
+      enable match { case Some(en) => when(en) { r := x }; case None => r := x }
+      r
+    } else x
   }
 
   /** Ends the current step; values of the next step are read through [[apply]] first. */
   def next(): Unit = {
     require(step < cuts.length, s"datapath has more than the ${cuts.length} planned steps")
-    if (cuts(step)) validNow = RegNext(validNow, false.B)
+    if (cuts(step)) validNow = RegEnable(validNow, false.B, enable.getOrElse(true.B))
     step += 1
   }
 

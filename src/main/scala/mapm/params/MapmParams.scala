@@ -2,7 +2,7 @@ package mapm.params
 
 import chisel3.util.isPow2
 import mapm.format.{MemoryLayout, SlotLayout}
-import mapm.model.FloatFormat
+import mapm.model.{Arith, FloatFormat}
 
 /** The colour channels of a photon's power, a query's contribution and a shader operation's
   * colour: r, g, b, in this order everywhere. */
@@ -59,7 +59,8 @@ final case class ModuleCounts(
 final case class NumberParams(
     format: FloatFormat = FloatFormat.fp32, // float format of positions, h, split values, power, ...
     guardDigits: Int = 3,                   // extra online digits in the SOA (0 = the dissertation's design)
-    fpuStageWeight: Double = NumberParams.DefaultFpuStageWeight // logic per register stage of the conventional FP units (docs/fpu.md)
+    fpuStageWeight: Double = NumberParams.DefaultFpuStageWeight, // logic per register stage of the conventional FP units (docs/fpu.md)
+    arith: Arith = Arith.Online             // the SOAs' colour chain and the TSAs: online, or the conventional baseline
 ) {
   require(guardDigits >= 0 && guardDigits <= 8, s"guard digits must be 0..8, got $guardDigits")
   require(fpuStageWeight >= 0.5 && fpuStageWeight <= 100, s"FPU logic per stage must be 0.5..100, got $fpuStageWeight")
@@ -150,13 +151,14 @@ final case class MapmParams(
   }
 
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
-    * wide layout gives the format larger slots than the packed one, and the FPU logic per stage
-    * (e.g. `_fw1p5`) where it is not the default. */
+    * wide layout gives the format larger slots than the packed one, the FPU logic per stage
+    * (e.g. `_fw1p5`) where it is not the default, and `_conv` for the conventional arithmetic. */
   def name: String = {
     val wide = if (slotBytes != SlotLayout.Packed.slotBytes(numbers.format)) "_wide" else ""
     val w = numbers.fpuStageWeight
     val depth = if (w != NumberParams.DefaultFpuStageWeight) "_fw" + f"$w%.2f".stripSuffix("0").stripSuffix("0").stripSuffix(".").replace('.', 'p') else ""
-    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth"
+    val conv = if (numbers.arith == Arith.Conventional) "_conv" else ""
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv"
   }
 }
 
@@ -185,14 +187,15 @@ object MapmParams {
     * takes 64-byte SOP L1 lines). A broken constraint is a one-line [[mapm.MapmError]] naming
     * it, not an exception. */
   def of(tsm: Int, som: Int, soa: Int, format: FloatFormat, g: Int,
-         registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None, layout: SlotLayout = SlotLayout.Packed): MapmParams =
+         registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None, layout: SlotLayout = SlotLayout.Packed,
+         arith: Arith = Arith.Online): MapmParams =
     try {
       require(tsm >= 1 && som >= 1 && soa >= 1, s"module counts must be at least 1, got $tsm/$som/$soa")
       val base = table48(tsm, som, soa)
       val r = new Records(layout.slotBytes(format))
       def fit(c: CacheParams, bytes: Int) = if (c.lineBytes >= bytes) c else c.copy(lineBytes = bytes)
       base.copy(
-        numbers = NumberParams(format, g),
+        numbers = NumberParams(format, g, arith = arith),
         memory = base.memory.copy(layout = layout),
         caches = base.caches.copy(tsL1 = fit(base.caches.tsL1, r.node.bytes), soq = fit(base.caches.soq, r.queryHwBytes),
           sopL1 = fit(base.caches.sopL1, r.photon.bytes)),

@@ -53,7 +53,7 @@ class SomLane(p: MapmParams) extends Module {
   val l1 = Module(new ReadOnlyCache(l1Config))
   io.mem <> l1.io.down
   io.l1 := l1.io.counters
-  val soa = Module(new SOA(fmt, p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight))))
+  val soa = Module(new SOA(fmt, p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight)), p.numbers.arith))
 
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
   val sent = RegInit(VecInit(Seq.fill(n)(false.B)))

@@ -11,8 +11,9 @@ import mapm.model._
   * hardware's arithmetic, and the model frame accumulated from them exactly ([[ExactSum]]).
   *
   * Per query: the tree search ([[TreeSearcher]]) gives the photons; each SO's colour bits and
-  * flags come from [[ShaderChainModel]] (the SOA's online chain, g guard digits) and its cond from
-  * [[CondModel]] (the SOA's cond check), whatever cond is, as the hardware reports every SO. The
+  * flags come from the SOA's arithmetic ([[ShadeArith.hardware]]: the online chain with g guard
+  * digits, or the conventional chain) and its cond from [[CondModel]] (the SOA's cond check),
+  * whatever cond is, as the hardware reports every SO. The
   * file is an [[ExpectedSoFile]], records sorted by (query, photon).
   */
 object ExpectedSo {
@@ -23,14 +24,15 @@ object ExpectedSo {
     *                rounded once (`frame(3 p + c)`) */
   final case class Result(count: Long, tsOps: Long, passing: Long, frame: Array[Double])
 
-  /** Computes every SO of `queries` against `map` with `g` guard digits on `threads` threads,
-    * writes them to `file` for a `width` x `height` image and returns the counts and model frame. */
+  /** Computes every SO of `queries` against `map` in arithmetic `arith` (online with `g` guard
+    * digits, or conventional) on `threads` threads, writes them to `file` for a `width` x `height`
+    * image and returns the counts and model frame. */
   def write(map: PhotonMap, queries: QuerySet, g: Int, width: Int, height: Int, file: Path, threads: Int,
-            progress: Option[String] = None): Result = {
+            progress: Option[String] = None, arith: Arith = Arith.Online): Result = {
     MapmError.check(map.format == queries.format, s"expected SOs: photon map (${map.format}) and queries (${queries.format}) differ in format")
     val fmt = map.format
     val codec = new ExpectedSoFile.Codec(fmt)
-    val chain = new ShaderChainModel(fmt, g)
+    val shade = ShadeArith.hardware(fmt, g, arith)
     val nq = queries.size
     val chunk = 512
     val chunks = (nq + chunk - 1) / chunk
@@ -40,7 +42,7 @@ object ExpectedSo {
     val searchers = ThreadLocal.withInitial(() => new TreeSearcher(map.search))
     Parallel.forRange(chunks, threads, chunk = 1) { c =>
       val (from, until) = (c * chunk, math.min(nq, (c + 1) * chunk))
-      buffers(c) = chunkRecords(map, queries, chain, codec, searchers.get, from, until, tsOps)
+      buffers(c) = chunkRecords(map, queries, shade, codec, searchers.get, from, until, tsOps)
       bar.foreach(_.advance((until - from).toLong))
     }
     bar.foreach(_.finish())
@@ -69,12 +71,12 @@ object ExpectedSo {
   }
 
   /** The records of queries [from, until), sorted by (query, photon). */
-  private def chunkRecords(map: PhotonMap, queries: QuerySet, chain: ShaderChainModel, codec: ExpectedSoFile.Codec, searcher: TreeSearcher,
+  private def chunkRecords(map: PhotonMap, queries: QuerySet, shade: ShadeArith, codec: ExpectedSoFile.Codec, searcher: TreeSearcher,
                            from: Int, until: Int, tsOps: java.util.concurrent.atomic.AtomicLong): Array[Byte] = {
-    val fmt = map.format
     val buf = new java.io.ByteArrayOutputStream()
     val rec = ByteBuffer.allocate(codec.record.bytes).order(ByteOrder.LITTLE_ENDIAN)
     val colour = new Array[Long](3)
+    val channelFlags = new Array[Int](3)
     var ts = 0L
     for (q <- from until until) {
       searcher.search(queries.x(q), queries.y(q), queries.z(q), map.hValue)
@@ -82,14 +84,11 @@ object ExpectedSo {
       val photons = java.util.Arrays.copyOf(searcher.so, searcher.soCount)
       java.util.Arrays.sort(photons)
       for (i <- photons) {
-        val front = chain.front(map.kernel(i), map.brdf(i), map.h)
+        shade.shadeFlags(map.kernel(i), map.brdf(i), map.h, map.power(0)(i), map.power(1)(i), map.power(2)(i),
+          queries.contribution(0)(q), queries.contribution(1)(q), queries.contribution(2)(q), colour, channelFlags)
         var flags = 0
-        for (c <- 0 until 3) {
-          val r = chain.channel(front, map.power(c)(i), queries.contribution(c)(q))
-          colour(c) = r.bits
-          flags |= r.flags << (ExpectedSoFile.FlagBits * c)
-        }
-        if (CondModel.cond(fmt, queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h))
+        for (c <- 0 until 3) flags |= channelFlags(c) << (ExpectedSoFile.FlagBits * c)
+        if (shade.cond(queries.qx(q), queries.qy(q), queries.qz(q), map.px(i), map.py(i), map.pz(i), map.h))
           flags |= 1 << ExpectedSoFile.CondBit
         codec.put(rec, 0, q, i, colour, flags)
         buf.write(rec.array())

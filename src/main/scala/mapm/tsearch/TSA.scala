@@ -24,6 +24,28 @@ class TsaResponse(tagWidth: Int) extends Bundle {
   val tag = UInt(tagWidth.W)
 }
 
+/** A tree-search unit's ports: one comparison in, its outcome out; with `stallable` an `en`
+  * input that freezes the unit while low. */
+class TsaIO(fmt: FloatFormat, tagWidth: Int, stallable: Boolean) extends Bundle {
+  val in = Flipped(Valid(new TsaRequest(fmt, tagWidth)))
+  val out = Valid(new TsaResponse(tagWidth))
+  /** Pipeline enable (stallable units only). */
+  val en = if (stallable) Some(Input(Bool())) else None
+}
+
+/** A tree-search unit, online ([[TSA]]) or conventional ([[ConvTSA]]): TC_L = (p - h < s) and
+  * TC_R = (p + h > s), exactly, at a fixed latency, one comparison per cycle. */
+abstract class TsaUnit extends Module {
+  val io: TsaIO
+  /** Cycles from an accepted request to its response. */
+  val latency: Int
+}
+
+object TsaUnit {
+  /** An operand the unit refuses: infinite or NaN, or negative and not zero. */
+  def invalid(f: FloatFields, x: UInt): Bool = f.isInfOrNaN(x) || (f.sign(x) && !f.isZero(x))
+}
+
 /** Tree Search Accelerator (3.4): TC_L = (p - h < s) and TC_R = (p + h > s), exactly, for
   * non-negative finite p, h, s in any [[FloatFormat]] (exponent field 0 is the value 0, -0 is 0).
   *
@@ -48,7 +70,7 @@ class TsaResponse(tagWidth: Int) extends Bundle {
   * while low: no register changes, the output holds, and `in` is not taken (the driver presents an
   * operation only while `en` is high). Latency then counts enabled cycles.
   */
-class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends Module {
+class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends TsaUnit {
   require(tagWidth >= 1, s"tag width must be at least 1, got $tagWidth")
   override def desiredName = s"TSA_${fmt.name}_t$tagWidth${if (stallable) "_en" else ""}"
 
@@ -59,12 +81,7 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
   /** Cycles from an accepted request to its response. */
   val latency: Int = TsaModel.latency(fmt)
 
-  val io = IO(new Bundle {
-    val in = Flipped(Valid(new TsaRequest(fmt, tagWidth)))
-    val out = Valid(new TsaResponse(tagWidth))
-    /** Pipeline enable (stallable TSAs only). */
-    val en = if (stallable) Some(Input(Bool())) else None
-  })
+  val io = IO(new TsaIO(fmt, tagWidth, stallable))
   private val enable = io.en.getOrElse(true.B)
   /** `Pipe` whose registers move only while `enable` is high. */
   private def stage[T <: Data](in: Valid[T], n: Int): Valid[T] =
@@ -78,7 +95,7 @@ class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends M
   // Stage 0 (combinational): fields, input check, the Shift Amount Logic's three subtractors.
   private val operands = Seq(io.in.bits.p, io.in.bits.h, io.in.bits.s)
   private val f = FloatFields(fmt)
-  private def invalid(x: UInt) = f.isInfOrNaN(x) || (f.sign(x) && !f.isZero(x)) // infinite or NaN; negative and not zero
+  private def invalid(x: UInt) = TsaUnit.invalid(f, x)
   private val differences = ShiftAmountLogic.differences(f.exp(io.in.bits.p), f.exp(io.in.bits.h), f.exp(io.in.bits.s))
 
   class Meta extends Bundle {

@@ -2,7 +2,9 @@ package mapm.tsearch
 
 import chisel3._
 import chisel3.util._
+import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
+import mapm.model.Arith
 import mapm.params.{MapmParams, NodeRecord, QueryData, Records, SoGroup}
 import mapm.util.Pick
 
@@ -43,8 +45,8 @@ class TsmEvents extends Bundle {
 }
 
 /** Tree Search Module (3.3): one search engine of the TS block, with its TS L1, its bank of the
-  * Register queue, its query table, a non-blocking node-fetch window, a stallable [[TSA]] and
-  * Nextnode.
+  * Register queue, its query table, a non-blocking node-fetch window, a stallable tree-search
+  * unit (the online [[TSA]], or the conventional [[ConvTSA]]: the same decisions) and Nextnode.
   *
   * Each cycle it takes at most one operation: the top of its own Register-queue bank, or (when the
   * bank is empty) a new query from the Launcher, which gets a query-table slot and starts at node
@@ -62,7 +64,8 @@ class TsmEvents extends Bundle {
   * that register holds a group the Data bus has not taken, the whole pipeline stalls (stall cause
   * "RS full"); the fetch window keeps receiving records meanwhile.
   *
-  * Latency (no stalls, L1 hit): 3 (node fetch) + 1 (issue) + TSA latency (manWidth + 4) + 1
+  * Latency (no stalls, L1 hit): 3 (node fetch) + 1 (issue) + TSA latency (manWidth + 7 online,
+  * the adders' stages + 1 conventional) + 1
   * (output register) cycles from taking an operation to its SO group; its children can be taken
   * again the cycle after. Throughput: one tree-search operation per cycle.
   */
@@ -96,7 +99,11 @@ class Tsm(p: MapmParams) extends Module {
   io.l1 := l1.io.counters
   val stack = Module(new RegisterStack(new TsmOp(p), depth))
   io.rqPeak := stack.io.peak
-  val tsa = Module(new TSA(fmt, (new NextnodeInfo(p)).getWidth, stallable = true))
+  private val infoWidth = (new NextnodeInfo(p)).getWidth
+  val tsa: TsaUnit = Module(p.numbers.arith match {
+    case Arith.Online => new TSA(fmt, infoWidth, stallable = true)
+    case Arith.Conventional => new ConvTSA(fmt, infoWidth, stallable = true, FpuDepth.of(fmt, p.numbers.fpuStageWeight).add)
+  })
 
   // Query table: a slot is in use while its reference count (operations in the bank or in flight) is non-zero.
   val table = Reg(Vec(nq, new QueryData(p)))

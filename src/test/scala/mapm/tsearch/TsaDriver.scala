@@ -6,7 +6,7 @@ import mapm.model.FloatFormat
 import mapm.model.TsaModel.Outcome
 import org.scalatest.Assertions
 
-/** Streams operations through a [[TSA]] under chiseltest and checks what comes out.
+/** Streams operations through a [[TSA]] or [[ConvTSA]] under chiseltest and checks what comes out.
   *
   * Each cycle an operation is offered (valid high) unless a random gap is drawn; its tag is its
   * index modulo 2^tagWidth. Every response must come exactly `latency` cycles after its request,
@@ -16,7 +16,7 @@ object TsaDriver extends Assertions {
 
   /** Runs `ops` with valid gaps of probability `gapProb` (seeded), then drains the pipeline;
     * calls `check(index, op, response)` per response. Returns the cycles taken. */
-  def stream(c: TSA, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0, seed: Long = 1)
+  def stream(c: TsaUnit, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0, seed: Long = 1)
             (check: (Int, Op, Outcome) => Unit): Long = {
     val rnd = new scala.util.Random(seed)
     val issuedAt = new Array[Long](ops.length)

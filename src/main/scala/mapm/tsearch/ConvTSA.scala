@@ -1,0 +1,83 @@
+package mapm.tsearch
+
+import chisel3._
+import chisel3.util._
+import mapm.fpu.{FAdd, FloatFields, FloatOrder}
+import mapm.model.FloatFormat
+
+/** The conventional Tree Search Accelerator, the baseline of dissertation Figure 4.5: two
+  * floating-point adders form p - h and p + h, and two comparisons with s decide TC_L = (p - h < s)
+  * and TC_R = (p + h > s). Same ports and outcome as the online [[TSA]], and the same decisions:
+  * exact ones, on the real values, for non-negative finite p, h, s in any [[FloatFormat]].
+  *
+  * '''Exactness.''' A rounded sum r = RN(p - h) can differ from the exact d = p - h, but never
+  * across a value of the format: if r < s then d < s (else s, lying in [d, r), would be nearer d
+  * than r is, or equal to d and then r = d exactly), and likewise if r > s then d > s. Only r = s
+  * leaves the question open, and there d < s exactly when r lies above d: the adder reports where
+  * its result lies against the exact sum ([[mapm.fpu.RoundDirection]]: rounded up or down, an
+  * overflow to infinity, a flush to zero). So
+  * TC_L = r_L < s or (r_L = s and r_L above p - h), TC_R = s < r_R or (r_R = s and r_R below p + h),
+  * with no wider datapath ([[mapm.model.ConvTsaModel]] is the same rule in software; the tests check
+  * it against exact decisions exhaustively at e3m3 and on the hard cases at fp32).
+  *
+  * An invalid operand (negative non-zero, infinite or NaN) sets `error` and both TC bits, as in
+  * the TSA.
+  *
+  * Latency: [[ConvTSA.latency]] = add + 1 cycles: the adders' `addStages`, then the comparisons'
+  * registered cycle (10 at fp32 with the default depth). Throughput: one operation per cycle. With
+  * `stallable`, `en` freezes every register while low.
+  */
+class ConvTSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false, addStages: Int) extends TsaUnit {
+  require(tagWidth >= 1, s"tag width must be at least 1, got $tagWidth")
+  require(addStages >= 0, s"adder stages must be non-negative, got $addStages")
+  override def desiredName = ConvTSA.name(fmt, tagWidth, stallable, addStages)
+
+  val latency: Int = ConvTSA.latency(addStages)
+  val io = IO(new TsaIO(fmt, tagWidth, stallable))
+  private val enable = io.en.getOrElse(true.B)
+  private val f = FloatFields(fmt)
+  private val req = io.in.bits
+
+  private def adder(sub: Boolean) = {
+    val u = Module(new FAdd(fmt, addStages, stallable, direction = true))
+    u.io.in.valid := io.in.valid
+    u.io.in.bits.a := req.p
+    u.io.in.bits.b := req.h
+    u.io.in.bits.sub := sub.B
+    u.io.en.foreach(_ := enable)
+    u
+  }
+  private val left = adder(sub = true)   // p - h
+  private val right = adder(sub = false) // p + h
+
+  private class Side extends Bundle {
+    val s = UInt(fmt.width.W)
+    val tag = UInt(tagWidth.W)
+    val error = Bool()
+  }
+  private val side0 = Wire(new Side)
+  side0.s := req.s
+  side0.tag := req.tag
+  side0.error := Seq(req.p, req.h, req.s).map(TsaUnit.invalid(f, _)).reduce(_ || _)
+  private val side = ShiftRegister(side0, addStages, enable)
+
+  private val (rl, rr) = (left.io.out.bits, right.io.out.bits)
+  private val (dl, dr) = (left.io.dir.get, right.io.dir.get)
+  private val tcl = FloatOrder.lt(fmt, rl, side.s) || (FloatOrder.eq(fmt, rl, side.s) && dl.above)
+  private val tcr = FloatOrder.lt(fmt, side.s, rr) || (FloatOrder.eq(fmt, rr, side.s) && dr.below)
+
+  io.out.valid := RegEnable(left.io.out.valid && right.io.out.valid, false.B, enable)
+  io.out.bits.tag := RegEnable(side.tag, enable)
+  io.out.bits.error := RegEnable(side.error, enable)
+  io.out.bits.tcl := RegEnable(tcl || side.error, enable)
+  io.out.bits.tcr := RegEnable(tcr || side.error, enable)
+}
+
+object ConvTSA {
+  /** The module name, e.g. `ConvTSA_e8m23_t16_a9` (`_en` when stallable). */
+  def name(fmt: FloatFormat, tagWidth: Int, stallable: Boolean, addStages: Int): String =
+    s"ConvTSA_${fmt.name}_t${tagWidth}_a$addStages${if (stallable) "_en" else ""}"
+
+  /** Cycles from request to outcome: the adders, then the registered comparisons. */
+  def latency(addStages: Int): Int = addStages + 1
+}
