@@ -1,17 +1,19 @@
 package mapm.cli
 
 import java.nio.file.{Files, Path, Paths}
-import mainargs.{ParserForMethods, arg, main}
+import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cost._
-import mapm.model.FloatFormat
-import Args.FloatFormatReader
+import mapm.model.{Arith, FloatFormat}
+import Args.{ArithReader, FloatFormatReader}
 
 /** `mapm cost`: clock, area and power of one unit (`--unit`) or of a whole MAPM configuration
   * (`--tsm --som --soa`), through the open flow of docs/cost.md: yosys synthesis to a Liberty
   * library (OSU 0.18 um by default), gate-level simulation of the netlist on real operations
   * (which checks it against the model and measures each net's switching activity), and OpenSTA
   * timing and power at each target clock. Writes `cost.json` and `cost.md` and prints the table.
+  * `--arith conventional` costs the conventional SOA or TSA (or a whole conventional MAPM);
+  * `--compare` costs both arithmetics of the SOA or TSA and compares them ([[CostCompare]]).
   */
 object CostCommand extends Command {
   val name = "cost"
@@ -19,12 +21,14 @@ object CostCommand extends Command {
 
   @main
   def cost(
-      @arg(doc = "unit: soa, tsa, cond, fadd, fmul, mul, div (or give --tsm/--som/--soa for a whole MAPM)") unit: Option[String] = None,
+      @arg(doc = "unit: soa, tsa, cond, fadd, fmul, fdiv, mul, div (or give --tsm/--som/--soa for a whole MAPM)") unit: Option[String] = None,
       @arg(doc = "Tree Search Modules of a whole MAPM") tsm: Option[Int] = None,
       @arg(doc = "Shader Operation Modules of a whole MAPM") som: Option[Int] = None,
       @arg(doc = "SOAs per SOM of a whole MAPM") soa: Option[Int] = None,
       @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
+      @arg(doc = "arithmetic of the SOA and TSA: online or conventional") arith: Arith = Arith.Online,
+      @arg(doc = "cost the soa or tsa unit in both arithmetics and compare them (Tables 4.6 and 4.7); writes compare.json") compare: Flag,
       @arg(name = "fpu-weight", doc = "logic per pipeline stage of the conventional FP units (cond, fadd, fmul, the SOA's cond check), about one full adder per unit; smaller is deeper (docs/fpu.md)") fpuWeight: Double = mapm.params.NumberParams.DefaultFpuStageWeight,
       @arg(doc = "target clocks in GHz, comma-separated") clock: String = CostFlow.defaultClocks.mkString(","),
       @arg(doc = "Liberty file (default: OSU 0.18 um, installed on first use)") lib: Option[String] = None,
@@ -44,31 +48,47 @@ object CostCommand extends Command {
     val counts = Seq(tsm, som, soa)
     val libPath = lib.map(Paths.get(_))
     libPath.foreach(p => MapmError.check(Files.isRegularFile(p), s"cost: Liberty file $p not found"))
+    MapmError.check(!compare.value || unit.exists(u => u == "soa" || u == "tsa"), "cost: --compare needs --unit soa or --unit tsa")
+    lazy val frameOps = CostFlow.frame(scene, format)
+    /** Unit `u` in arithmetic `a`, its reports into `dir`. */
+    def unitCost(u: String, a: Arith, dir: Path): UnitCost = {
+      val cu = CostUnits(u, format, g, fpuWeight, a)
+      val flow = CostFlow(libPath, clocks, abc, dir)
+      val useFrame = stimulus == "frame" && cu.checksModel
+      val frame = if (useFrame) Some(frameOps) else None
+      val source = if (useFrame) s"SOs/TS ops of $scene"
+        else if (cu.checksModel) s"random operations (seed $seed)" else s"random digit streams (seed $seed)"
+      val online = a == Arith.Online
+      val r = flow.unit(cu, format, if (Seq("soa", "mul", "div").contains(u) && online) Some(g) else None,
+        CostUnits.ops(cu, format, g, frame, ops, seed, a), seed, source)
+      print(r.markdown)
+      println(s"wrote ${dir.resolve("cost.json")} and cost.md")
+      r
+    }
     (unit, counts.flatten.size) match {
+      case (Some(u), 0) if compare.value =>
+        val base = Paths.get(out)
+        val costs = Arith.all.map(a => unitCost(u, a, base.resolve(a.name)))
+        val c = CostCompare(u, format, costs(0), costs(1), CostUnits(u, format, g, fpuWeight).validRate)
+        println(); print(c.markdown)
+        c.write(base)
+        println(s"wrote ${base.resolve("compare.json")} and compare.md")
+        0
       case (Some(u), 0) =>
-        val cu = CostUnits(u, format, g, fpuWeight)
-        val flow = CostFlow(libPath, clocks, abc, Paths.get(out))
-        val useFrame = stimulus == "frame" && cu.checksModel
-        val frame = if (useFrame) Some(CostFlow.frame(scene, format)) else None
-        val source = if (useFrame) s"SOs/TS ops of $scene"
-          else if (cu.checksModel) s"random operations (seed $seed)" else s"random digit streams (seed $seed)"
-        val r = flow.unit(cu, format, if (Seq("soa", "mul", "div").contains(u)) Some(g) else None,
-          CostUnits.ops(cu, format, g, frame, ops, seed), seed, source)
-        print(r.markdown)
-        println(s"wrote ${Paths.get(out).resolve("cost.json")} and cost.md")
+        unitCost(u, arith, Paths.get(out))
         0
       case (None, 3) =>
-        val base0 = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g)
+        val base0 = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g, arith = arith)
         val params = base0.copy(numbers = base0.numbers.copy(fpuStageWeight = fpuWeight))
         val base = Paths.get(out)
         val frame = if (stimulus == "frame") Some(CostFlow.frame(scene, format)) else None
         val source = if (stimulus == "frame") s"SOs/TS ops of $scene" else s"random (seed $seed)"
         val units = Seq("soa", "tsa").map { k =>
-          val cu = CostUnits(k, format, g, fpuWeight)
+          val cu = CostUnits(k, format, g, fpuWeight, arith)
           System.err.println(s"cost: unit $k ...")
           val flow = CostFlow(libPath, clocks, abc, base.resolve(k))
-          val (r, gl) = flow.unitWithActivity(cu, format, if (k == "soa") Some(g) else None,
-            CostUnits.ops(cu, format, g, frame, ops, seed), seed, source)
+          val (r, gl) = flow.unitWithActivity(cu, format, if (k == "soa" && arith == Arith.Online) Some(g) else None,
+            CostUnits.ops(cu, format, g, frame, ops, seed, arith), seed, source)
           print(r.markdown + "\n")
           (r, gl)
         }

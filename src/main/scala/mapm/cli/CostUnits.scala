@@ -1,11 +1,11 @@
 package mapm.cli
 
 import mapm.MapmError
-import mapm.fpu.{FAdd, FMul, FpuDepth}
+import mapm.fpu.{FAdd, FDiv, FMul, FpuDepth}
 import mapm.model._
 import mapm.params.NumberParams
 import mapm.shader.{CondCheck, OnlineDiv, OnlineMul, SOA, ShaderChain}
-import mapm.tsearch.TSA
+import mapm.tsearch.{ConvTSA, TSA}
 
 /** One operation on a unit's input ports (values in [[CostUnit.inPorts]] order) and the output
   * values the bit-accurate model expects for it (in [[CostUnit.outPorts]] order). */
@@ -36,7 +36,7 @@ final class CostUnit(val kind: String, val top: String, gen: () => chisel3.RawMo
 
 object CostUnits {
   /** The units `cost --unit` knows. */
-  val kinds: Seq[String] = Seq("soa", "tsa", "cond", "fadd", "fmul", "mul", "div")
+  val kinds: Seq[String] = Seq("soa", "tsa", "cond", "fadd", "fmul", "fdiv", "mul", "div")
 
   /** Per-SOA valid rate of the Table 4.8 Cornell frame at 16/16/2 (15.33 SO/cycle over 32 SOAs,
     * docs/mapm.md) and per-TSA rate (14.35 TS ops/cycle over 16 TSAs). */
@@ -48,21 +48,31 @@ object CostUnits {
   private val soaIn = IndexedSeq("kernel", "brdf", "h", "power_0", "power_1", "power_2", "contrib_0", "contrib_1",
     "contrib_2", "qx", "qy", "qz", "px", "py", "pz").map("io_in_bits_" + _) :+ "io_in_bits_tag"
 
-  /** The unit `kind` in `format` with `g` guard digits (the SOA's online units) and conventional
-    * floating-point units pipelined to `fpuWeight` of logic per stage ([[FpuDepth.of]]). */
+  /** The unit `kind` in `format` with `g` guard digits (the SOA's online units), conventional
+    * floating-point units pipelined to `fpuWeight` of logic per stage ([[FpuDepth.of]]), and the
+    * SOA and TSA in arithmetic `arith`. */
   def apply(kind: String, format: FloatFormat, g: Int,
-            fpuWeight: Double = NumberParams.DefaultFpuStageWeight): CostUnit = {
+            fpuWeight: Double = NumberParams.DefaultFpuStageWeight, arith: Arith = Arith.Online): CostUnit = {
     val depth = FpuDepth.of(format, fpuWeight)
-    unit(kind, format, g, depth)
+    MapmError.check(arith == Arith.Online || Seq("soa", "tsa").contains(kind),
+      s"cost: --arith applies to the soa and tsa units, not '$kind'")
+    unit(kind, format, g, depth, arith)
   }
 
-  private def unit(kind: String, format: FloatFormat, g: Int, depth: FpuDepth): CostUnit = kind match {
+  private def unit(kind: String, format: FloatFormat, g: Int, depth: FpuDepth, arith: Arith): CostUnit = kind match {
     case "soa" =>
-      MapmError.check(format.manWidth >= 4, s"cost: the SOA needs at least 4 fraction bits, format $format has ${format.manWidth}")
-      new CostUnit("soa", SOA.name(format, g, Some(depth)), () => new SOA(format, g, tagWidth, Some(depth)), SOA.latency(format, g, depth), soaIn,
+      MapmError.check(format.manWidth >= 4 || arith == Arith.Conventional,
+        s"cost: the SOA needs at least 4 fraction bits, format $format has ${format.manWidth}")
+      new CostUnit("soa", SOA.name(format, g, Some(depth), arith), () => new SOA(format, g, tagWidth, Some(depth), arith),
+        SOA.latency(format, g, depth, arith), soaIn,
         (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_colour_$c") ++
           (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_flags_$c") ++ Seq("io_out_bits_cond", "io_out_bits_tag"),
         SoaRate, rateNote)
+    case "tsa" if arith == Arith.Conventional =>
+      new CostUnit("tsa", ConvTSA.name(format, tagWidth, stallable = false, depth.add),
+        () => new ConvTSA(format, tagWidth, addStages = depth.add), ConvTSA.latency(depth.add),
+        IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
+        IndexedSeq("io_out_bits_tcl", "io_out_bits_tcr", "io_out_bits_error", "io_out_bits_tag"), TsaRate, rateNote)
     case "tsa" =>
       new CostUnit("tsa", s"TSA_${format.name}_t$tagWidth", () => new TSA(format, tagWidth), TsaModel.latency(format),
         IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
@@ -77,6 +87,9 @@ object CostUnits {
     case "fmul" =>
       new CostUnit("fmul", s"FMul_${format.name}_s${depth.mul}", () => new FMul(format, depth.mul), depth.mul,
         IndexedSeq("io_in_bits_a", "io_in_bits_b"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the SOA")
+    case "fdiv" =>
+      new CostUnit("fdiv", s"FDiv_${format.name}_s${depth.div}", () => new FDiv(format, depth.div), depth.div,
+        IndexedSeq("io_in_bits_a", "io_in_bits_b"), IndexedSeq("io_out_bits"), SoaRate, rateNote + ", as the conventional SOA")
     case "mul" | "div" =>
       MapmError.check(format.manWidth >= 4, s"cost: the online units need at least 4 fraction bits, format $format has ${format.manWidth}")
       val n = format.manWidth + 1
@@ -95,7 +108,8 @@ object CostUnits {
   /** `n` operations for `u` with the model's results: from the frame's shader and tree-search
     * operations when `frame` is given, else seeded random bit patterns of the format (every
     * value class: zeros, subnormal patterns, infinities, NaNs and normal numbers). */
-  def ops(u: CostUnit, format: FloatFormat, g: Int, frame: Option[Frame], n: Int, seed: Long): IndexedSeq[UnitOp] = {
+  def ops(u: CostUnit, format: FloatFormat, g: Int, frame: Option[Frame], n: Int, seed: Long,
+          arith: Arith = Arith.Online): IndexedSeq[UnitOp] = {
     val rnd = new scala.util.Random(seed)
     def randomBits(): Long = if (rnd.nextInt(16) == 0) rnd.nextLong() & format.mask
       else { // a normal number near 1 most of the time, so the arithmetic does real work
@@ -126,8 +140,12 @@ object CostUnits {
     u.kind match {
       case "soa" =>
         val chain = new ShaderChainModel(format, g)
+        def colour(so: FrameOps.So, c: Int) = arith match {
+          case Arith.Online => chain.colour(so.kernel, so.brdf, so.h, so.power(c), so.contrib(c))
+          case Arith.Conventional => ConvChainModel.colour(format, so.kernel, so.brdf, so.h, so.power(c), so.contrib(c))
+        }
         sos.zipWithIndex.map { case (so, i) =>
-          val res = (0 until 3).map(c => chain.colour(so.kernel, so.brdf, so.h, so.power(c), so.contrib(c)))
+          val res = (0 until 3).map(colour(so, _))
           val cond = CondModel.cond(format, so.q(0), so.q(1), so.q(2), so.p(0), so.p(1), so.p(2), so.h)
           UnitOp((so.inputs.map(b) :+ b(i & mask)).toArray,
             (res.map(r => b(r.bits)) ++ res.map(r => b(r.flags.toLong)) ++ Seq(bool(cond), b(i & mask))).toArray)
@@ -148,13 +166,18 @@ object CostUnits {
           val d = SoftFloat.sub(format, so.q(i % 3), so.p(i % 3))
           UnitOp(Array(b(d), b(d)), Array(b(SoftFloat.mul(format, d, d))))
         }
+      case "fdiv" => // the conventional chain's divider: RN(kernel * BRDF) / h
+        sos.map { so =>
+          val t1 = SoftFloat.mul(format, so.kernel, so.brdf)
+          UnitOp(Array(b(t1), b(so.h)), Array(b(SoftFloat.div(format, t1, so.h))))
+        }
       case "tsa" =>
         val ts = frame match {
           case Some(f) => FrameOps.treeSearchOps(f.map, f.querySet, n)
           case None => IndexedSeq.fill(n)(FrameOps.Ts(randomBits(), randomBits() & (format.mask >> 1), randomBits()))
         }
         ts.zipWithIndex.map { case (t, i) =>
-          val o = TsaModel.evaluate(format, t.p, t.h, t.s)
+          val o = if (arith == Arith.Online) TsaModel.evaluate(format, t.p, t.h, t.s) else ConvTsaModel.evaluate(format, t.p, t.h, t.s)
           UnitOp(Array(b(t.p), b(t.h), b(t.s), b(i & mask)), Array(bool(o.tcl), bool(o.tcr), bool(o.error), b(i & mask)))
         }
     }
