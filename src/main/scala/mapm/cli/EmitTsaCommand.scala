@@ -3,9 +3,11 @@ package mapm.cli
 import java.nio.file.Paths
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{FloatFormat, TsaModel}
+import mapm.fpu.FpuDepth
+import mapm.model.{Arith, FloatFormat, TsaModel}
 import mapm.sim.Emit
-import mapm.tsearch.TSA
+import mapm.tsearch.{ConvTSA, TSA}
+import Args.ArithReader
 
 /** `mapm emit-tsa`: writes the SystemVerilog of the Tree Search Accelerator for a float format. */
 object EmitTsaCommand extends Command {
@@ -27,16 +29,22 @@ object EmitTsaCommand extends Command {
       @arg(doc = "mantissa width in bits without the hidden bit, 1..52 (default 23)") man: Option[Int] = None,
       @arg(doc = "float format instead of --exp/--man: fp32, bf16, fp16, fp24, fp64 or E,M") format: Option[String] = None,
       @arg(doc = "width of the opaque tag that travels with each operation, 1..64") tagWidth: Int = 16,
+      @arg(doc = "online (the digit-serial comparators) or conventional (two FAdds, exact decisions)") arith: Arith = Arith.Online,
       @arg(doc = "output directory (created when missing)") out: String = "."
   ): Int = {
     val fmt = formatOf(format, exp, man)
     MapmError.check(tagWidth >= 1 && tagWidth <= 64, s"$name: --tag-width must be 1..64, got $tagWidth")
-    val file = s"TSA_${fmt.name}_t$tagWidth.sv"
+    val add = FpuDepth.of(fmt).add
+    val file = (if (arith == Arith.Online) s"TSA_${fmt.name}_t$tagWidth" else ConvTSA.name(fmt, tagWidth, stallable = false, add)) + ".sv"
     val path =
-      try Emit.toFile(new TSA(fmt, tagWidth), Paths.get(out), file)
+      try Emit.toFile(if (arith == Arith.Online) new TSA(fmt, tagWidth) else new ConvTSA(fmt, tagWidth, addStages = add), Paths.get(out), file)
       catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write $out/$file: ${e.getMessage}") }
-    println(s"wrote $path: TSA for $fmt, tag $tagWidth bits, latency ${TsaModel.latency(fmt)} cycles, " +
-      s"${TsaModel.Alignment.exact.wordWidth(fmt)} comparator slices, one operation per cycle")
+    if (arith == Arith.Online)
+      println(s"wrote $path: TSA for $fmt, tag $tagWidth bits, latency ${TsaModel.latency(fmt)} cycles, " +
+        s"${TsaModel.Alignment.exact.wordWidth(fmt)} comparator slices, one operation per cycle")
+    else
+      println(s"wrote $path: conventional TSA for $fmt, tag $tagWidth bits, latency ${ConvTSA.latency(add)} cycles " +
+        s"(two $add-stage adders, one comparison cycle), one operation per cycle")
     0
   }
 

@@ -5,10 +5,10 @@ import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Paths}
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{FloatFormat, TsaModel}
+import mapm.model.{Arith, ConvTsaModel, FloatFormat, TsaModel}
 import mapm.model.TsaModel.Outcome
 import mapm.sim.TsaRunner
-import Args.FloatFormatReader
+import Args.{ArithReader, FloatFormatReader}
 
 /** `mapm tsa-vectors`: runs (p, h, s) rows of a CSV file through the TSA model and, with `--hw`,
   * through the emitted TSA in Verilator; writes the outputs and checks any expected ones.
@@ -72,15 +72,16 @@ object TsaVectorsCommand extends Command {
       @arg(doc = "CSV file: header line, then rows p,h,s (hex bit patterns); optional expected columns tcl,tcr,error") in: String,
       @arg(doc = "float format of the bit patterns: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
       @arg(doc = "also run the rows through the emitted TSA Verilog in Verilator") hw: Flag,
+      @arg(doc = "TSA: online (the digit-serial comparators) or conventional (two FAdds, exact decisions)") arith: Arith = Arith.Online,
       @arg(doc = "write the output CSV here (default: standard output, with the summary on standard error)") out: Option[String] = None
   ): Int = {
     val path = Paths.get(in)
     if (!Files.isRegularFile(path)) MapmError.fail(s"$name: input file $in not found")
     val rows = parse(new String(Files.readAllBytes(path), StandardCharsets.UTF_8), format, in)
-    val model = rows.map(r => TsaModel.evaluate(format, r.p, r.h, r.s))
+    val model = rows.map(r => if (arith == Arith.Online) TsaModel.evaluate(format, r.p, r.h, r.s) else ConvTsaModel.evaluate(format, r.p, r.h, r.s))
     val hardware = if (!hw.value) None else {
-      System.err.println(s"$name: building the Verilator simulation of the $format TSA (cached after the first build) ...")
-      Some(TsaRunner.run(format, rows.map(r => (r.p, r.h, r.s))))
+      System.err.println(s"$name: building the Verilator simulation of the $format $arith TSA (cached after the first build) ...")
+      Some(TsaRunner.run(format, rows.map(r => (r.p, r.h, r.s)), arith = arith))
     }
 
     val csv = new StringBuilder

@@ -9,14 +9,6 @@ class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
   val sub = Bool()
 }
 
-/** Where an [[FAdd]] result lies against the exact sum: `above` (rounded up in value, or
-  * overflowed to +infinity, or flushed to zero from below), `below` (the opposite), neither when
-  * it is exact. Meaningful for finite operands. */
-class RoundDirection extends Bundle {
-  val above = Bool()
-  val below = Bool()
-}
-
 /** Pipelined floating-point adder/subtractor: out = a + b (or a - b when `sub`), correctly rounded
   * to nearest even in format `fmt`, bit-exact with [[mapm.model.SoftFloat.add]] / `sub` (flush of
   * zero-exponent inputs and of results below the smallest normal, overflow to infinity, canonical
@@ -32,9 +24,10 @@ class RoundDirection extends Bundle {
   *  - rounding: the block increments, then the carry select and the choice of overflow, flush or
   *    the packed result.
   *
-  * With `direction` the unit also tells where the result lies against the exact sum
-  * ([[RoundDirection]], beside `out`), which lets a comparison of the rounded sum decide as the
-  * exact sum would (the conventional TSA). With `stallable` an `en` input freezes every register
+  * With `direction` the unit also tells whether the result lies above the exact sum (`above`,
+  * beside `out`: rounded up in value, an overflow to +infinity, or a flush to zero of a negative
+  * sum; false when exact; meaningful for finite operands), which lets a comparison of the rounded
+  * sum decide as the exact sum would (the conventional TSA). With `stallable` an `en` input freezes every register
   * while low (the output holds).
   *
   * Latency: `stages` cycles (the output is registered when stages >= 1), default
@@ -53,8 +46,8 @@ class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false
     val out = Valid(UInt(fmt.width.W))
     /** Pipeline enable (stallable units only). */
     val en = if (stallable) Some(Input(Bool())) else None
-    /** The result against the exact sum (units with `direction` only). */
-    val dir = if (direction) Some(Output(new RoundDirection)) else None
+    /** The result lies above the exact sum (units with `direction` only). */
+    val above = if (direction) Some(Output(Bool())) else None
   })
 
   private val n = fmt.manWidth + 1
@@ -139,13 +132,9 @@ class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false
   private val prep = p(RoundPrep(fmt, side.sign, exp3.pad(expW), norm(n + 2, 4), norm(3), norm(2, 0).orR))
   private val (zero4, zeroSign4) = (p(zero3), p(zeroSign3)); side = p(side); p.next()
   private val (magAbove, magBelow) = prep.magnitudeDirection
-  private val dir = Wire(new RoundDirection)
-  private val inexact = !side.special && !zero4
-  dir.above := inexact && Mux(side.sign, magBelow, magAbove)
-  dir.below := inexact && Mux(side.sign, magAbove, magBelow)
-  private val dirOut = p(dir)
+  private val aboveOut = p(!side.special && !zero4 && Mux(side.sign, magBelow, magAbove))
   io.out.bits := p.last(Mux(side.special, side.specialBits, Mux(zero4, FPack.zero(fmt, zeroSign4), prep.finish)))
-  io.dir.foreach(_ := dirOut)
+  io.above.foreach(_ := aboveOut)
   io.out.valid := p.finish()
 }
 

@@ -16,7 +16,7 @@ import mapm.model.FloatFormat
   * of its sum and carry vectors added: digit 1 when the estimate is >= 0, 0 when it is -1/2, -1
   * below) and forms W' = 2W - q D with one row of full adders, so the step's delay does not
   * grow with the width. The digits are converted to binary on the fly (Q and Q - 1 kept side by
-  * side). After manWidth + 3 digits one carry-propagate addition gives the remainder's sign, which
+  * side, each register only as wide as the bits that still reach the quotient). After manWidth + 3 digits one carry-propagate addition gives the remainder's sign, which
   * picks Q or Q - 1, and whether it is zero, the sticky bit.
   *
   * Steps ([[FDiv.weights]]), any of which a register may end ([[PipelinePlan]]):
@@ -43,9 +43,9 @@ class FDiv(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPip
 
   private val m = fmt.manWidth
   private val digits = FDiv.digits(fmt)     // quotient digits: m + 3
-  // Remainder vectors, two's complement mod 2^w: 2W and the estimate (above -3 D and at most 2 D)
-  // need a sign bit at 2^(m+4).
-  private val w = m + 5
+  // The remainder vectors hold W mod 2^v: |W| <= D < 2^(m+2) needs a sign bit at 2^(m+3). Their
+  // doubles 2W, and the estimate (above -3 D and at most 2 D), are read mod 2^(v+1).
+  private val v = m + 4
   private val expW = fmt.expWidth + 3      // holds 1 - (expMax - 1) + bias - 1 .. expMax - 1 - 1 + bias, signed
   private val p = new StepPipe(cuts, io.in.valid)
 
@@ -54,14 +54,16 @@ class FDiv(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPip
     val specialBits = UInt(fmt.width.W)
     val sign = Bool()
     val exp = SInt(expW.W)
-    val d = UInt(w.W)      // D = 2B
-    val negD = UInt(w.W)   // -D, for the remainder's zero test
+    val d = UInt(v.W)      // D = 2B
+    val negD = UInt(v.W)   // -D, for the remainder's zero test
   }
-  private class Rem extends Bundle {
-    val s = UInt(w.W)      // W = s + c (mod 2^w)
-    val c = UInt(w.W)
-    val q = UInt(digits.W) // the digits so far, as Q and Q - 1 (mod 2^digits)
-    val qm = UInt(digits.W)
+  /** The remainder after `j` digits, and the digits as Q and Q - 1: their low j bits, the only ones
+    * that reach the final quotient (mod 2^digits) through the digits still to come. */
+  private class Rem(j: Int) extends Bundle {
+    val s = UInt(v.W)      // W = s + c (mod 2^v)
+    val c = UInt(v.W)
+    val q = UInt(j.W)
+    val qm = UInt(j.W)
   }
 
   // Step 0: specials, exponent difference, the first remainder W = A.
@@ -76,49 +78,45 @@ class FDiv(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPip
   side0.sign := sign
   side0.exp := (a.exp.zext -& b.exp.zext) +& fmt.bias.S
   side0.d := Cat(b.sig, 0.U(1.W))
-  side0.negD := 0.U(w.W) - Cat(b.sig, 0.U(1.W))
-  private val rem0 = Wire(new Rem)
-  rem0.s := a.sig
-  rem0.c := 0.U
-  rem0.q := 0.U
-  rem0.qm := ((BigInt(1) << digits) - 1).U
+  side0.negD := 0.U(v.W) - Cat(b.sig, 0.U(1.W))
   private var side = p(side0)
-  private var rem = p(rem0)
+  private var (ws, wc) = (p(a.sig.pad(v)), p(0.U(v.W)))
   p.next()
 
-  // The digit steps.
-  for (_ <- 0 until digits) {
-    val s2 = (rem.s << 1)(w - 1, 0)
-    val c2 = (rem.c << 1)(w - 1, 0)
-    // The estimate of 2W to one fraction bit (2^(m+1)): the top 4 bits of each vector, added mod 16.
-    val est = (rem.s(w - 2, w - 5) +& rem.c(w - 2, w - 5))(3, 0)
+  // The digit steps. Q and Q - 1 start as 0 and -1: one bit each is all the first step reads.
+  private var (q, qm) = (0.U(1.W), 1.U(1.W))
+  for (j <- 1 to digits) {
+    // 2W mod 2^v (the sum and carry vectors shifted), and its estimate to one fraction bit
+    // (2^(m+1)) mod 2^(v+1): the top 4 bits of each doubled vector, added mod 16.
+    val (s2, c2) = (Cat(ws(v - 2, 0), 0.U(1.W)), Cat(wc(v - 2, 0), 0.U(1.W)))
+    val est = (ws(v - 1, v - 4) +& wc(v - 1, v - 4))(3, 0)
     val plus = !est(3)              // estimate >= 0: digit 1
     val zero = est === "b1111".U    // estimate -1/2: digit 0; below: -1
     // -q D: for q = 1 the complement of D plus one (the carry vector's free low bit).
-    val addend = Mux(plus, ~side.d, Mux(zero, 0.U(w.W), side.d))
-    val next = Wire(new Rem)
+    val addend = Mux(plus, ~side.d, Mux(zero, 0.U(v.W), side.d))
+    val next = Wire(new Rem(j))
     next.s := s2 ^ c2 ^ addend
-    next.c := Cat(((s2 & c2) | (s2 & addend) | (c2 & addend))(w - 2, 0), plus)
-    next.q := Mux(plus, Cat(rem.q, 1.U(1.W)), Mux(zero, Cat(rem.q, 0.U(1.W)), Cat(rem.qm, 1.U(1.W))))(digits - 1, 0)
-    next.qm := Mux(plus, Cat(rem.q, 0.U(1.W)), Mux(zero, Cat(rem.qm, 1.U(1.W)), Cat(rem.qm, 0.U(1.W))))(digits - 1, 0)
-    rem = p(next); side = p(side); p.next()
+    next.c := Cat(((s2 & c2) | (s2 & addend) | (c2 & addend))(v - 2, 0), plus)
+    next.q := Mux(plus, Cat(q, 1.U(1.W)), Mux(zero, Cat(q, 0.U(1.W)), Cat(qm, 1.U(1.W))))(j - 1, 0)
+    next.qm := Mux(plus, Cat(q, 0.U(1.W)), Mux(zero, Cat(qm, 1.U(1.W)), Cat(qm, 0.U(1.W))))(j - 1, 0)
+    val r = p(next); side = p(side); p.next()
+    ws = r.s; wc = r.c; q = r.q; qm = r.qm
   }
 
   // The remainder W = s + c, one Kogge-Stone level per step.
-  private val spans = PrefixAdd.spans(w, carryOut = false)
-  private var add = PrefixAdd.start(rem.s, rem.c, false.B, w, carryOut = false)
-  private var qs = rem
-  for (d <- spans.drop(1)) { add = add.map(p(_)); qs = p(qs); side = p(side); p.next(); add = PrefixAdd.level(add, d) }
-  private val wSum = p(PrefixAdd.sum(add)); qs = p(qs); side = p(side); p.next()
+  private val spans = PrefixAdd.spans(v, carryOut = false)
+  private var add = PrefixAdd.start(ws, wc, false.B, v, carryOut = false)
+  for (d <- spans.drop(1)) { add = add.map(p(_)); q = p(q); qm = p(qm); side = p(side); p.next(); add = PrefixAdd.level(add, d) }
+  private val wSum = p(PrefixAdd.sum(add)); q = p(q); qm = p(qm); side = p(side); p.next()
 
   // Q = floor(2^(m+2) A / B) in [2^(m+1), 2^(m+3)); the remainder is zero when W is 0 or -D.
-  val negative = wSum(w - 1)
-  val q = Mux(negative, qs.qm, qs.q)
+  val negative = wSum(v - 1)
+  val quotient = Mux(negative, qm, q)
   val remainder = wSum =/= 0.U && wSum =/= side.negD
-  val top = q(digits - 1)
-  val frac = Mux(top, q(m + 1, 2), q(m, 1))
-  val guard = Mux(top, q(1), q(0))
-  val sticky = remainder || (top && q(0))
+  val top = quotient(digits - 1)
+  val frac = Mux(top, quotient(m + 1, 2), quotient(m, 1))
+  val guard = Mux(top, quotient(1), quotient(0))
+  val sticky = remainder || (top && quotient(0))
   val exp = side.exp - (!top).zext
   private val fracR = p(frac); private val guardR = p(guard); private val stickyR = p(sticky)
   private val expR = p(exp); side = p(side); p.next()

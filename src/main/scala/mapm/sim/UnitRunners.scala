@@ -6,7 +6,7 @@ import mapm.fpu.FpuDepth
 import mapm.model.{Arith, FloatFormat, TsaModel}
 import mapm.model.TsaModel.Outcome
 import mapm.shader.{SOA, ShaderChain}
-import mapm.tsearch.TSA
+import mapm.tsearch.{ConvTSA, TSA, TsaUnit}
 
 /** The [[SOA]] in Verilator: [[PipeRunner]]s of `SOA(format, g, tagWidth)` with the row encoding
   * of [[SoaRunner.Op]] and [[SoaRunner.Out]]. */
@@ -50,7 +50,7 @@ object ShaderChainRunner {
       (o, cycle) => Out(o(6).toLong, o.slice(0, 3).map(_.toLong).toArray, o.slice(3, 6).map(_.toInt).toArray, cycle))
 }
 
-/** The [[TSA]] in Verilator: a [[PipeRunner]] of `TSA(fmt, 32)` whose tag carries each
+/** The [[TSA]] (or the [[ConvTSA]]) in Verilator: a [[PipeRunner]] of `TSA(fmt, 32)` whose tag carries each
   * operation's index (modulo 2^32), so that [[TsaRunner.run]] reports a response that comes back
   * out of order, is lost, or arrives after any latency other than the model's as a [[MapmError]]
   * rather than matching it to the wrong operation. */
@@ -63,9 +63,11 @@ object TsaRunner {
 
   /** Outputs for each (p, h, s) bit-pattern triple, streamed back to back, in order. */
   def run(fmt: FloatFormat, ops: IndexedSeq[(Long, Long, Long)],
-          cacheDir: Path = VerilatorPipe.defaultCache): IndexedSeq[Outcome] = {
-    val latency = TsaModel.latency(fmt)
-    val runner = PipeRunner(new TSA(fmt, tagWidth), latency, cacheDir)(_.io.in, _.io.out)(
+          cacheDir: Path = VerilatorPipe.defaultCache, arith: Arith = Arith.Online): IndexedSeq[Outcome] = {
+    val add = FpuDepth.of(fmt).add
+    val latency = if (arith == Arith.Online) TsaModel.latency(fmt) else ConvTSA.latency(add)
+    val runner = PipeRunner[TsaUnit, (Long, Long, Long, Long), Out](
+      if (arith == Arith.Online) new TSA(fmt, tagWidth) else new ConvTSA(fmt, tagWidth, addStages = add), latency, cacheDir)(_.io.in, _.io.out)(
       (op: (Long, Long, Long, Long)) => Seq(BigInt(op._1), BigInt(op._2), BigInt(op._3), BigInt(op._4)),
       (o, cycle) => Out(Outcome(o(0) == 1, o(1) == 1, o(2) == 1), o(3).toLong, cycle)) // tcl, tcr, error, tag
     val out = new Array[Outcome](ops.length)

@@ -6,17 +6,17 @@ import mapm.fpu.{FAdd, FloatFields, FloatOrder}
 import mapm.model.FloatFormat
 
 /** The conventional Tree Search Accelerator, the baseline of dissertation Figure 4.5: two
-  * floating-point adders form p - h and p + h, and two comparisons with s decide TC_L = (p - h < s)
-  * and TC_R = (p + h > s). Same ports and outcome as the online [[TSA]], and the same decisions:
+  * floating-point adders form p - h and -p - h (that is, -(p + h)), and two comparisons with s
+  * and -s decide TC_L = (p - h < s) and TC_R = (p + h > s), that is -p - h < -s. Same ports and outcome as the online [[TSA]], and the same decisions:
   * exact ones, on the real values, for non-negative finite p, h, s in any [[FloatFormat]].
   *
   * '''Exactness.''' A rounded sum r = RN(p - h) can differ from the exact d = p - h, but never
   * across a value of the format: if r < s then d < s (else s, lying in [d, r), would be nearer d
   * than r is, or equal to d and then r = d exactly), and likewise if r > s then d > s. Only r = s
-  * leaves the question open, and there d < s exactly when r lies above d: the adder reports where
-  * its result lies against the exact sum ([[mapm.fpu.RoundDirection]]: rounded up or down, an
-  * overflow to infinity, a flush to zero). So
-  * TC_L = r_L < s or (r_L = s and r_L above p - h), TC_R = s < r_R or (r_R = s and r_R below p + h),
+  * leaves the question open, and there d < s exactly when r lies above d: the adder reports
+  * whether its result lies above the exact sum (`FAdd` with `direction`: rounded up in value, an
+  * overflow to +infinity, a flush to zero of a negative sum). So, with r_R = RN(-p - h),
+  * TC_L = r_L < s or (r_L = s and r_L above p - h), TC_R = r_R < -s or (r_R = -s and r_R above -p - h),
   * with no wider datapath ([[mapm.model.ConvTsaModel]] is the same rule in software; the tests check
   * it against exact decisions exhaustively at e3m3 and on the hard cases at fp32).
   *
@@ -38,17 +38,19 @@ class ConvTSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false, addSt
   private val f = FloatFields(fmt)
   private val req = io.in.bits
 
-  private def adder(sub: Boolean) = {
+  /** x with its sign flipped. */
+  private def negate(x: UInt): UInt = Cat(!f.sign(x), f.magnitude(x))
+  private def adder(a: UInt) = {
     val u = Module(new FAdd(fmt, addStages, stallable, direction = true))
     u.io.in.valid := io.in.valid
-    u.io.in.bits.a := req.p
+    u.io.in.bits.a := a
     u.io.in.bits.b := req.h
-    u.io.in.bits.sub := sub.B
+    u.io.in.bits.sub := true.B
     u.io.en.foreach(_ := enable)
     u
   }
-  private val left = adder(sub = true)   // p - h
-  private val right = adder(sub = false) // p + h
+  private val left = adder(req.p)          // p - h
+  private val right = adder(negate(req.p)) // -p - h = -(p + h)
 
   private class Side extends Bundle {
     val s = UInt(fmt.width.W)
@@ -61,10 +63,10 @@ class ConvTSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false, addSt
   side0.error := Seq(req.p, req.h, req.s).map(TsaUnit.invalid(f, _)).reduce(_ || _)
   private val side = ShiftRegister(side0, addStages, enable)
 
-  private val (rl, rr) = (left.io.out.bits, right.io.out.bits)
-  private val (dl, dr) = (left.io.dir.get, right.io.dir.get)
-  private val tcl = FloatOrder.lt(fmt, rl, side.s) || (FloatOrder.eq(fmt, rl, side.s) && dl.above)
-  private val tcr = FloatOrder.lt(fmt, side.s, rr) || (FloatOrder.eq(fmt, rr, side.s) && dr.below)
+  /** r < t exactly, for r the rounding of a sum that lies `above` it or not, and t a value. */
+  private def below(r: UInt, above: Bool, t: UInt): Bool = FloatOrder.lt(fmt, r, t) || (FloatOrder.eq(fmt, r, t) && above)
+  private val tcl = below(left.io.out.bits, left.io.above.get, side.s)
+  private val tcr = below(right.io.out.bits, right.io.above.get, negate(side.s))
 
   io.out.valid := RegEnable(left.io.out.valid && right.io.out.valid, false.B, enable)
   io.out.bits.tag := RegEnable(side.tag, enable)

@@ -83,6 +83,32 @@ class CostCommandSpec extends AnyFunSuite {
     checkUnit(out, j)
   }
 
+  test("cost --unit tsa --compare at e3m3: both TSAs keep their function; the ratios are those of the two reports") {
+    tools()
+    val out = Files.createTempDirectory("mapm-cost-compare")
+    val (rc, text) = runCost("--unit", "tsa", "--format", "3,3", "--stimulus", "random", "--ops", "2048",
+      "--clock", "0.05,0.1,0.2", "--compare", "--out", out.toString)
+    assert(rc == 0 && text.contains("Normalized to the conventional design"), text)
+    val on = ujson.read(Files.readAllBytes(out.resolve("online").resolve("cost.json")))
+    val conv = ujson.read(Files.readAllBytes(out.resolve("conventional").resolve("cost.json")))
+    checkUnit(out.resolve("online"), on)
+    checkUnit(out.resolve("conventional"), conv) // the gate-level ConvTSA against ConvTsaModel
+    assert(on("top").str == "TSA_e3m3_t16" && conv("top").str == "ConvTSA_e3m3_t16_a8", conv("top").str)
+    val c = ujson.read(Files.readAllBytes(out.resolve("compare.json")))
+    def close(a: Double, b: Double) = math.abs(a - b) <= 1e-9 * math.abs(b)
+    assert(close(c("areaRatio").num, on("areaUm2").num / conv("areaUm2").num))
+    assert(close(c("fmaxRatio").num, on("fmaxGHz").num / conv("fmaxGHz").num))
+    assert(close(c("commonClockGHz").num, math.min(on("fmaxGHz").num, conv("fmaxGHz").num)))
+    val pj = (x: ujson.Value) => x("atFmax")("dynamicPjPerCycle").num
+    assert(close(c("energyPerOpRatio").num, pj(on) / pj(conv)) && close(c("dynamicPowerRatio").num, pj(on) / pj(conv)))
+  }
+
+  test("cost --unit fdiv at e4m3: the SRT divider keeps its function on every operation") {
+    val (out, j) = unitRun("fdiv", "4,3")
+    assert(j("top").str.startsWith("FDiv_e4m3_s"))
+    checkUnit(out, j)
+  }
+
   test("the gate-level check finds a netlist that synthesis did not keep") {
     val (out, j) = unitRun("tsa", "3,3", "--abc", "plain")
     val lib = Liberty.read(tools().osu018Lib)
@@ -150,6 +176,9 @@ class CostCommandSpec extends AnyFunSuite {
     assert(err("--unit", "tsa", "--abc", "fancy").contains("--abc"))
     assert(err("--unit", "cond", "--fpu-weight", "0.1").contains("--fpu-weight must be 0.5..100"))
     assert(err("--tsm", "2").contains("all three"))
+    assert(err("--unit", "cond", "--compare").contains("--compare needs --unit soa or --unit tsa"))
+    assert(err("--unit", "fadd", "--arith", "conventional").contains("--arith applies to the soa and tsa units"))
+    assert(err("--unit", "tsa", "--arith", "floating").contains("online or conventional"))
     assert(err().contains("give --unit"))
     assert(err("--unit", "tsa", "--tsm", "1", "--som", "1", "--soa", "1").contains("not both"))
     assert(err("--unit", "soa", "--format", "5,2").contains("at least 4 fraction bits"))

@@ -5,7 +5,7 @@ import java.nio.file.{Files, Path, Paths}
 import mapm.Slow
 import mapm.cli.RtlRun
 import mapm.format.{MemoryImage, SlotLayout}
-import mapm.model.{FloatFormat, TestScenes}
+import mapm.model.{Arith, FloatFormat, TestScenes}
 import mapm.params._
 import mapm.sim.{Harness, HarnessStats}
 import org.scalatest.funsuite.AnyFunSuite
@@ -68,6 +68,18 @@ class MapmRtlSpec extends AnyFunSuite {
       check(large, p, stress, seeds.take(1))
       info(s"${seeds.size + 1} runs: ${small.frame.querySet.size} and ${large.frame.querySet.size} queries, ${small.model.count} and ${large.model.count} SOs")
     }
+
+  test("conventional arithmetic, 2/1/2 fp32: every SO exact under random memory timing; the same TS ops and SOs as online") {
+    assume(haveVerilator, "verilator is not on PATH")
+    val online = large // writes large.json
+    val conv = RtlRun.prepare(dir.resolve("large.json").toString, Some(FloatFormat.fp32), 3, dir.toString, 2, arith = Arith.Conventional)
+    // The conventional TSA's decisions are the exact ones, as the online TSA's are: the same search.
+    assert(conv.model.tsOps == online.model.tsOps && conv.model.count == online.model.count)
+    assert(conv.model.passing == online.model.passing, "the same cond check")
+    val p = MapmParams.of(2, 1, 2, FloatFormat.fp32, 3, arith = Arith.Conventional)
+    assert(p.name.endsWith("_conv"))
+    check(conv, p, stress, Seq(22L, 23L))
+  }
 
   // Every slot size: 2-byte (fp16, bf16, e6m9 packed), 4-byte (fp16 wide; fp32 above) and 8-byte (fp64).
   for ((f, layout, slot, (t, s, a), seeds) <- Seq((FloatFormat.fp16, SlotLayout.Packed, 2, (2, 2, 2), Seq(11L, 12L)),
