@@ -28,7 +28,7 @@ object CostCommand extends Command {
       @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
       @arg(doc = "arithmetic of the SOA and TSA: online or conventional") arith: Arith = Arith.Online,
-      @arg(doc = "cost the soa or tsa unit in both arithmetics and compare them (Tables 4.6 and 4.7); writes compare.json") compare: Flag,
+      @arg(doc = "cost the soa or tsa unit in both arithmetics and compare them (Tables 4.6 and 4.7; compare.json); with --tsm/--som/--soa, both MAPMs rendering --scene through the RTL (compare-system.json)") compare: Flag,
       @arg(name = "fpu-weight", doc = "logic per pipeline stage of the conventional FP units (cond, fadd, fmul, the SOA's cond check), about one full adder per unit; smaller is deeper (docs/fpu.md)") fpuWeight: Double = mapm.params.NumberParams.DefaultFpuStageWeight,
       @arg(doc = "target clocks in GHz, comma-separated") clock: String = CostFlow.defaultClocks.mkString(","),
       @arg(doc = "Liberty file (default: OSU 0.18 um, installed on first use)") lib: Option[String] = None,
@@ -48,7 +48,8 @@ object CostCommand extends Command {
     val counts = Seq(tsm, som, soa)
     val libPath = lib.map(Paths.get(_))
     libPath.foreach(p => MapmError.check(Files.isRegularFile(p), s"cost: Liberty file $p not found"))
-    MapmError.check(!compare.value || unit.exists(u => u == "soa" || u == "tsa"), "cost: --compare needs --unit soa or --unit tsa")
+    MapmError.check(!compare.value || unit.forall(u => u == "soa" || u == "tsa"),
+      "cost: --compare needs --unit soa or --unit tsa, or --tsm/--som/--soa for the whole MAPM")
     lazy val frameOps = CostFlow.frame(scene, format)
     /** Unit `u` in arithmetic `a`, its reports into `dir`. */
     def unitCost(u: String, a: Arith, dir: Path): UnitCost = {
@@ -77,6 +78,26 @@ object CostCommand extends Command {
       case (Some(u), 0) =>
         unitCost(u, arith, Paths.get(out))
         0
+      case (None, 3) if compare.value =>
+        // Both arithmetics: their SOA and TSA through the flow, and the MAPM rendering the scene.
+        val base = Paths.get(out)
+        val figures = Arith.all.map { a =>
+          val (soaCost, tsaCost) = (unitCost("soa", a, base.resolve(a.name).resolve("soa")), unitCost("tsa", a, base.resolve(a.name).resolve("tsa")))
+          System.err.println(s"cost: rendering $scene through the $a ${tsm.get}/${som.get}/${soa.get} MAPM ...")
+          val opts = RtlOptions(scene = scene, format = Some(format), g = g, arith = a, out = base.resolve(a.name).toString)
+          val setup = opts.setup(Seq((tsm.get, som.get, soa.get)))
+          val (p, prep) = (setup.params.head, setup.prep)
+          val run = RtlRun.runConfig(prep, p, opts.harness(), prep.work, l => System.err.println(s"mapm: $l"))
+          val s = run.outcome.stats.getOrElse(MapmError.fail(s"cost: the $a render wrote no statistics (${run.failure})"))
+          val rgb = run.outcome.frame.getOrElse(MapmError.fail(s"cost: the $a render wrote no frame"))
+          SystemFigures(a, mapm.sim.MapmRtl.topName(p), s.cycles, s.soIssued, p.counts.som * p.counts.soaPerSom, p.counts.tsm,
+            soaCost, tsaCost, mapm.model.Metrics.psnr(rgb, RtlRun.reference(prep, opts.threads)), run.passed)
+        }
+        val c = SystemCompare(s"${tsm.get}/${som.get}/${soa.get}", format, scene, figures(0), figures(1))
+        println(); print(c.markdown)
+        c.write(base)
+        println(s"wrote ${base.resolve("compare-system.json")} and compare-system.md")
+        if (figures.forall(_.passed)) 0 else MapmError.fail("cost: a render failed its checks (see above)")
       case (None, 3) =>
         val base0 = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g, arith = arith)
         val params = base0.copy(numbers = base0.numbers.copy(fpuStageWeight = fpuWeight))

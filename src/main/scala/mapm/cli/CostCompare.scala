@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
 import mapm.cost.UnitCost
-import mapm.model.FloatFormat
+import mapm.model.{Arith, FloatFormat}
 
 /** The online unit against the conventional one under one flow (`cost --compare`), in the layout
   * of the dissertation's Tables 4.6 and 4.7: each design's fmax, area, and dynamic and leakage
@@ -59,5 +59,62 @@ final case class CostCompare(unit: String, format: FloatFormat, online: UnitCost
     Files.createDirectories(dir)
     Files.write(dir.resolve("compare.json"), ujson.write(json, indent = 2).getBytes(UTF_8))
     Files.write(dir.resolve("compare.md"), markdown.getBytes(UTF_8))
+  }
+}
+
+/** One arithmetic's MAPM rendering a frame, costed by the dissertation's method (unit figures
+  * times counts): its cycles from the RTL render, its SOA and TSA from the cost flow.
+  *
+  * @param psnr the indirect image's PSNR against float64 */
+final case class SystemFigures(arith: Arith, top: String, cycles: Long, soIssued: Long, soas: Int, tsas: Int,
+                               soa: UnitCost, tsa: UnitCost, psnr: Double, passed: Boolean) {
+  /** The slower unit's fmax: the clock of the whole by this method. */
+  def fmaxGHz: Double = soa.fmaxGHz min tsa.fmaxGHz
+  def soPerCycle: Double = soIssued.toDouble / cycles
+  def frameMs: Double = cycles / (fmaxGHz * 1e9) * 1e3
+  def areaMm2: Double = (soas * soa.areaUm2 + tsas * tsa.areaUm2) / 1e6
+  /** Dynamic energy per cycle of all units (pJ), at the activity of the Cornell frame's operations. */
+  def pjPerCycle: Double = soas * soa.dynamicPjPerCycle + tsas * tsa.dynamicPjPerCycle
+  def dynamicMwAtFmax: Double = pjPerCycle * fmaxGHz
+  def frameEnergyMj: Double = pjPerCycle * cycles * 1e-9
+  def json: ujson.Obj = ujson.Obj("arith" -> arith.name, "top" -> top, "cycles" -> cycles.toDouble, "soIssued" -> soIssued.toDouble,
+    "soPerCycle" -> soPerCycle, "fmaxGHz" -> fmaxGHz, "frameMs" -> frameMs, "areaMm2" -> areaMm2,
+    "dynamicMwAtFmax" -> dynamicMwAtFmax, "frameEnergyMj" -> frameEnergyMj,
+    "psnrDb" -> (if (psnr.isInfinite) ujson.Str("inf") else ujson.Num(psnr)), "renderPassed" -> passed,
+    "soa" -> soa.top, "tsa" -> tsa.top)
+}
+
+/** The online and the conventional MAPM side by side (`cost --tsm T --som S --soa A --compare`). */
+final case class SystemCompare(label: String, format: FloatFormat, scene: String, online: SystemFigures, conventional: SystemFigures) {
+  private def both = Seq(online, conventional)
+  def json: ujson.Obj = ujson.Obj("configuration" -> label, "format" -> format.toString, "scene" -> scene,
+    "method" -> "unit figures x counts (dissertation Table 4.9); cycles from the RTL render",
+    "online" -> online.json, "conventional" -> conventional.json,
+    "ratios" -> ujson.Obj("cycles" -> online.cycles.toDouble / conventional.cycles, "fmax" -> online.fmaxGHz / conventional.fmaxGHz,
+      "frameTime" -> online.frameMs / conventional.frameMs, "area" -> online.areaMm2 / conventional.areaMm2,
+      "frameEnergy" -> online.frameEnergyMj / conventional.frameEnergyMj))
+
+  def markdown: String = {
+    val sb = new StringBuilder
+    sb ++= s"MAPM $label, format $format, $scene: online against conventional (unit figures x counts; cycles from the RTL)\n\n"
+    sb ++= "| | " + both.map(_.top).mkString(" | ") + " | online / conventional |\n|---|---:|---:|---:|\n"
+    def row(name: String, f: SystemFigures => Double, fmt: Double => String): Unit =
+      sb ++= s"| $name | ${both.map(x => fmt(f(x))).mkString(" | ")} | ${f"${f(online) / f(conventional)}%.3f"} |\n"
+    row("cycles", _.cycles.toDouble, v => f"$v%,.0f")
+    row("SO per cycle", _.soPerCycle, v => f"$v%.3f")
+    row("fmax, the slower unit (MHz)", _.fmaxGHz * 1e3, v => f"$v%.0f")
+    row("frame time at fmax (ms)", _.frameMs, v => f"$v%.3f")
+    row("area of the units (mm^2)", _.areaMm2, v => f"$v%.1f")
+    row("dynamic power at fmax (mW)", _.dynamicMwAtFmax, v => f"$v%,.0f")
+    row("frame energy (mJ)", _.frameEnergyMj, v => f"$v%.2f")
+    row("PSNR against float64 (dB)", _.psnr, v => f"$v%.2f")
+    sb ++= s"\nrenders: ${both.map(x => s"${x.arith} ${if (x.passed) "PASS (every SO exact, frame bit-equal)" else "FAIL"}").mkString(", ")}\n"
+    sb.toString
+  }
+
+  def write(dir: Path): Unit = {
+    Files.createDirectories(dir)
+    Files.write(dir.resolve("compare-system.json"), ujson.write(json, indent = 2).getBytes(UTF_8))
+    Files.write(dir.resolve("compare-system.md"), markdown.getBytes(UTF_8))
   }
 }

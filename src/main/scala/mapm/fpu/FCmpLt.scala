@@ -20,33 +20,52 @@ class FCmpLt(val fmt: FloatFormat, val stages: Int = 1) extends Module with Plan
     val out = Valid(Bool())
   })
 
-  val lt = FloatOrder.lt(fmt, io.in.bits.a, io.in.bits.b)
+  val lt = OrderParts(fmt, io.in.bits.a, io.in.bits.b).lt
   private val p = new StepPipe(cuts, io.in.valid)
   io.out.bits := p.last(lt)
   io.out.valid := p.finish()
 }
 
-/** The order of bit patterns of `fmt` as [[mapm.model.SoftFloat.lt]] defines it: NaNs are
-  * unordered, zeros of both signs and the patterns with exponent field 0 are all zero, infinities
-  * order as usual. Combinational: a sign-magnitude comparison. */
-object FloatOrder {
-  /** Magnitude bits (exponent and fraction) with the zero patterns cleared. */
-  private def magnitude(f: FloatFields, x: UInt): UInt = Mux(f.isZero(x), 0.U, f.magnitude(x))
+/** The order of two bit patterns of `fmt` as [[mapm.model.SoftFloat.lt]] defines it (NaNs are
+  * unordered, zeros of both signs and the patterns with exponent field 0 are all zero,
+  * infinities order as usual), split in two steps so that a register may sit between them: the
+  * magnitudes' upper and lower halves are compared on their own ([[OrderParts.apply]]), then
+  * combined with the signs ([[lt]], and [[eq]]: equal values, +0 = -0). */
+class OrderParts(fmt: FloatFormat) extends Bundle {
+  val hiLt = Bool()
+  val hiEq = Bool()
+  val loLt = Bool()
+  val loEq = Bool()
+  val signA = Bool()
+  val signB = Bool()
+  val zeroA = Bool()   // magnitude zero (exponent field 0)
+  val zeroB = Bool()
+  val nan = Bool()     // either is a NaN
 
-  /** a < b (false when either is a NaN). */
-  def lt(fmt: FloatFormat, a: UInt, b: UInt): Bool = {
-    val f = FloatFields(fmt)
-    val (sa, sb) = (f.sign(a), f.sign(b))
-    val (ma, mb) = (magnitude(f, a), magnitude(f, b))
-    val ordered = Mux(sa =/= sb, sa && (ma =/= 0.U || mb =/= 0.U), Mux(sa, ma > mb, ma < mb))
-    ordered && !f.isNaN(a) && !f.isNaN(b)
-  }
+  private def magLt: Bool = hiLt || (hiEq && loLt)
+  private def magEq: Bool = hiEq && loEq
+  private def magGt: Bool = !magLt && !magEq
+  def lt: Bool = !nan && Mux(signA =/= signB, signA && !(zeroA && zeroB), Mux(signA, magGt, magLt))
+  def eq: Bool = !nan && magEq && (zeroA || signA === signB)
+}
 
-  /** a == b as values (false when either is a NaN; +0 == -0). */
-  def eq(fmt: FloatFormat, a: UInt, b: UInt): Bool = {
+object OrderParts {
+  def apply(fmt: FloatFormat, a: UInt, b: UInt): OrderParts = {
     val f = FloatFields(fmt)
-    val (ma, mb) = (magnitude(f, a), magnitude(f, b))
-    ma === mb && (ma === 0.U || f.sign(a) === f.sign(b)) && !f.isNaN(a) && !f.isNaN(b)
+    def magnitude(x: UInt): UInt = Mux(f.isZero(x), 0.U, f.magnitude(x))
+    val (ma, mb) = (magnitude(a), magnitude(b))
+    val half = (fmt.width - 1) / 2
+    val o = Wire(new OrderParts(fmt))
+    o.hiLt := ma(fmt.width - 2, half) < mb(fmt.width - 2, half)
+    o.hiEq := ma(fmt.width - 2, half) === mb(fmt.width - 2, half)
+    o.loLt := ma(half - 1, 0) < mb(half - 1, 0)
+    o.loEq := ma(half - 1, 0) === mb(half - 1, 0)
+    o.signA := f.sign(a)
+    o.signB := f.sign(b)
+    o.zeroA := f.isZero(a)
+    o.zeroB := f.isZero(b)
+    o.nan := f.isNaN(a) || f.isNaN(b)
+    o
   }
 }
 

@@ -2,7 +2,7 @@ package mapm.tsearch
 
 import chisel3._
 import chisel3.util._
-import mapm.fpu.{FAdd, FloatFields, FloatOrder}
+import mapm.fpu.{FAdd, FloatFields, OrderParts}
 import mapm.model.FloatFormat
 
 /** The conventional Tree Search Accelerator, the baseline of dissertation Figure 4.5: two
@@ -23,8 +23,9 @@ import mapm.model.FloatFormat
   * An invalid operand (negative non-zero, infinite or NaN) sets `error` and both TC bits, as in
   * the TSA.
   *
-  * Latency: [[ConvTSA.latency]] = add + 1 cycles: the adders' `addStages`, then the comparisons'
-  * registered cycle (10 at fp32 with the default depth). Throughput: one operation per cycle. With
+  * Latency: [[ConvTSA.latency]] = add + 2 cycles: the adders' `addStages`, then the comparisons
+  * in two registered steps (the magnitudes' halves compared, then combined with the signs and the
+  * rounding's direction): 11 at fp32 with the default depth. Throughput: one operation per cycle. With
   * `stallable`, `en` freezes every register while low.
   */
 class ConvTSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false, addStages: Int) extends TsaUnit {
@@ -63,16 +64,22 @@ class ConvTSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false, addSt
   side0.error := Seq(req.p, req.h, req.s).map(TsaUnit.invalid(f, _)).reduce(_ || _)
   private val side = ShiftRegister(side0, addStages, enable)
 
-  /** r < t exactly, for r the rounding of a sum that lies `above` it or not, and t a value. */
-  private def below(r: UInt, above: Bool, t: UInt): Bool = FloatOrder.lt(fmt, r, t) || (FloatOrder.eq(fmt, r, t) && above)
-  private val tcl = below(left.io.out.bits, left.io.above.get, side.s)
-  private val tcr = below(right.io.out.bits, right.io.above.get, negate(side.s))
+  // The comparisons in two steps: halves of the magnitudes, then r < t exactly for r the rounding of
+  // a sum that lies `above` it or not: r < t, or r = t and r above the sum.
+  private val partsL = RegEnable(OrderParts(fmt, left.io.out.bits, side.s), enable)
+  private val partsR = RegEnable(OrderParts(fmt, right.io.out.bits, negate(side.s)), enable)
+  private val aboveL = RegEnable(left.io.above.get, enable)
+  private val aboveR = RegEnable(right.io.above.get, enable)
+  private val side2 = RegEnable(side, enable)
+  private val valid2 = RegEnable(left.io.out.valid && right.io.out.valid, false.B, enable)
+  private val tcl = partsL.lt || (partsL.eq && aboveL)
+  private val tcr = partsR.lt || (partsR.eq && aboveR)
 
-  io.out.valid := RegEnable(left.io.out.valid && right.io.out.valid, false.B, enable)
-  io.out.bits.tag := RegEnable(side.tag, enable)
-  io.out.bits.error := RegEnable(side.error, enable)
-  io.out.bits.tcl := RegEnable(tcl || side.error, enable)
-  io.out.bits.tcr := RegEnable(tcr || side.error, enable)
+  io.out.valid := RegEnable(valid2, false.B, enable)
+  io.out.bits.tag := RegEnable(side2.tag, enable)
+  io.out.bits.error := RegEnable(side2.error, enable)
+  io.out.bits.tcl := RegEnable(tcl || side2.error, enable)
+  io.out.bits.tcr := RegEnable(tcr || side2.error, enable)
 }
 
 object ConvTSA {
@@ -80,6 +87,6 @@ object ConvTSA {
   def name(fmt: FloatFormat, tagWidth: Int, stallable: Boolean, addStages: Int): String =
     s"ConvTSA_${fmt.name}_t${tagWidth}_a$addStages${if (stallable) "_en" else ""}"
 
-  /** Cycles from request to outcome: the adders, then the registered comparisons. */
-  def latency(addStages: Int): Int = addStages + 1
+  /** Cycles from request to outcome: the adders, then the comparisons' two steps. */
+  def latency(addStages: Int): Int = addStages + 2
 }

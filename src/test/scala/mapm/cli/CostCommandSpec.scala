@@ -123,6 +123,36 @@ class CostCommandSpec extends AnyFunSuite {
     assert(GateLevel.run(u, broken, lib, ops, 5).mismatches > 0)
   }
 
+  test("cost --tsm 1 --som 1 --soa 1 --compare at e5m4: both MAPMs render and pass; the system table follows the reports") {
+    tools()
+    assume(mapm.testutil.HostTools.onPath("verilator"), "verilator is not on PATH")
+    val out = Files.createTempDirectory("mapm-cost-system")
+    val scene = out.resolve("tiny.json")
+    Files.write(scene, (s"""{ "obj": "${mapm.model.TestScenes.cornellObj.toAbsolutePath}",
+      |  "camera": { "position": [278, 273, -530], "direction": [0, 0, 1], "up": [0, 1, 0], "fov": 39.3 },
+      |  "lights": [ { "type": "point", "position": [1, 25, 1], "power": [100000, 100000, 100000] } ],
+      |  "width": 4, "height": 3, "finalGatherRays": 2, "photons": 100, "maxBounces": 3, "h": 100, "seed": 3 }""".stripMargin).getBytes("UTF-8"))
+    val (rc, text) = runCost("--tsm", "1", "--som", "1", "--soa", "1", "--format", "5,4", "--compare", "--scene", scene.toString,
+      "--ops", "512", "--clock", "0.05,0.1", "--abc", "buffer", "--out", out.toString)
+    assert(rc == 0 && text.contains("online / conventional"), text)
+    val c = ujson.read(Files.readAllBytes(out.resolve("compare-system.json")))
+    for (a <- Seq("online", "conventional")) {
+      val sys = c(a)
+      val soa = ujson.read(Files.readAllBytes(out.resolve(a).resolve("soa").resolve("cost.json")))
+      val tsa = ujson.read(Files.readAllBytes(out.resolve(a).resolve("tsa").resolve("cost.json")))
+      val rtlDir = Files.list(out.resolve(a)).toArray.map(_.asInstanceOf[Path]).filter(_.getFileName.toString.endsWith("-rtl"))
+      assert(rtlDir.length == 1, rtlDir.mkString(", "))
+      val stats = ujson.read(Files.readAllBytes(rtlDir.head.resolve("stats.json")))
+      assert(sys("renderPassed").bool)
+      assert(sys("cycles").num == stats("cycles").num && sys("soIssued").num == stats("soIssued").num)
+      assert(sys("fmaxGHz").num == math.min(soa("fmaxGHz").num, tsa("fmaxGHz").num))
+      assert(math.abs(sys("areaMm2").num * 1e6 - (soa("areaUm2").num + tsa("areaUm2").num)) < 1e-3)
+      val pj = soa("atFmax")("dynamicPjPerCycle").num + tsa("atFmax")("dynamicPjPerCycle").num
+      assert(math.abs(sys("frameEnergyMj").num - pj * sys("cycles").num * 1e-9) < 1e-9 * sys("frameEnergyMj").num)
+    }
+    assert(c("online")("soIssued").num == c("conventional")("soIssued").num, "the same SOs: the TSAs decide alike")
+  }
+
   test("cost --tsm 1 --som 1 --soa 1 at e5m4: (a) is the unit figures, (b) every module's cells and the SRAM bits") {
     tools()
     val out = Files.createTempDirectory("mapm-cost-config")
