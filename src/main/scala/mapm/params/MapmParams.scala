@@ -68,8 +68,8 @@ final case class NumberParams(
 
 object NumberParams {
   /** Logic per register stage of the conventional floating-point units, in their steps' weight
-    * units (about one full adder each; docs/fpu.md): the lightest that the fp32 cond check needs
-    * to clock at 500 MHz on OSU018 (docs/cost.md). */
+    * units (about one full adder each; docs/fpu.md): the fp32 cond check at this weight measured
+    * 467 to 510 MHz on OSU018 (docs/cost.md), above the online SOA's clock. */
   val DefaultFpuStageWeight: Double = 2.0
 }
 
