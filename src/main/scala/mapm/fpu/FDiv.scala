@@ -118,12 +118,8 @@ class FDiv(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPip
   val guard = Mux(top, quotient(1), quotient(0))
   val sticky = remainder || (top && quotient(0))
   val exp = side.exp - (!top).zext
-  private val fracR = p(frac); private val guardR = p(guard); private val stickyR = p(sticky)
-  private val expR = p(exp); side = p(side); p.next()
-
   // Rounding.
-  private val prep = p(RoundPrep(fmt, side.sign, expR, fracR, guardR, stickyR)); side = p(side); p.next()
-  io.out.bits := p.last(Mux(side.special, side.specialBits, prep.finish))
+  io.out.bits := RoundTail(p, fmt, side.special, side.specialBits, side.sign, exp, frac, guard, sticky)
   io.out.valid := p.finish()
 }
 

@@ -144,3 +144,19 @@ private[fpu] object RoundPrep {
     r
   }
 }
+
+/** The last steps of the multiplier and the divider: normalized significand bits in, packed result
+  * out. The step that formed `frac`, `guard`, `sticky` and `exp` ends; the next forms the rounding
+  * ([[RoundPrep]]), the last selects it or the special result. */
+private[fpu] object RoundTail {
+  def apply(p: StepPipe, fmt: FloatFormat, special: Bool, specialBits: UInt, sign: Bool, exp: SInt,
+            frac: UInt, guard: Bool, sticky: Bool): UInt = {
+    val (special1, bits1, sign1) = (p(special), p(specialBits), p(sign))
+    val (frac1, guard1, sticky1, exp1) = (p(frac), p(guard), p(sticky), p(exp))
+    p.next()
+    val prep = p(RoundPrep(fmt, sign1, exp1, frac1, guard1, sticky1))
+    val (special2, bits2) = (p(special1), p(bits1))
+    p.next()
+    p.last(Mux(special2, bits2, prep.finish))
+  }
+}

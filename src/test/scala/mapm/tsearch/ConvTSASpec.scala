@@ -42,15 +42,8 @@ class ConvTSASpec extends AnyFunSuite with Sim {
     }
   }
 
-  private def checkAll(c: ConvTSA, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0): Long = {
-    var checked = 0
-    val cycles = TsaDriver.stream(c, fmt, tagWidth, ops, gapProb) { (i, op, hw) =>
-      assert(hw == exact(fmt, op.p, op.h, op.s), s"op $i: p=0x${fmt.hex(op.p)} h=0x${fmt.hex(op.h)} s=0x${fmt.hex(op.s)}: hardware $hw")
-      checked += 1
-    }
-    assert(checked == ops.length)
-    cycles
-  }
+  private def checkAll(c: ConvTSA, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0): Long =
+    TsaDriver.checkAll(c, fmt, tagWidth, ops, gapProb)(o => exact(fmt, o.p, o.h, o.s))
 
   test("hardware: e3m3 exhaustive, back to back, equals the exact decisions") {
     val fmt = FloatFormat(3, 3)

@@ -17,18 +17,9 @@ class TSASpec extends AnyFunSuite with Sim {
     else Outcome(TsaReference.tcl(fmt, o.p, o.h, o.s), TsaReference.tcr(fmt, o.p, o.h, o.s), error = false)
 
   /** Streams `ops` and asserts hardware = exact = model for every one. */
-  private def checkAll(c: TSA, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0): Long = {
-    var checked = 0
-    val cycles = TsaDriver.stream(c, fmt, tagWidth, ops, gapProb) { (i, op, hw) =>
-      val want = exact(fmt, op)
-      val what = s"op $i: p=0x${fmt.hex(op.p)} h=0x${fmt.hex(op.h)} s=0x${fmt.hex(op.s)}"
-      assert(hw == want, s"$what: hardware $hw, exact $want")
-      assert(TsaModel.evaluate(fmt, op.p, op.h, op.s) == hw, s"$what: model disagrees with hardware $hw")
-      checked += 1
-    }
-    assert(checked == ops.length)
-    cycles
-  }
+  private def checkAll(c: TSA, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0): Long =
+    TsaDriver.checkAll(c, fmt, tagWidth, ops, gapProb)(exact(fmt, _), (op, hw) =>
+      assert(TsaModel.evaluate(fmt, op.p, op.h, op.s) == hw, s"$op: model disagrees with hardware $hw"))
 
   test("e3m3 exhaustive: all 175,616 non-negative finite (p, h, s) back to back, hardware = exact = model") {
     val fmt = FloatFormat(3, 3)

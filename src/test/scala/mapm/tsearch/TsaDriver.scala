@@ -14,6 +14,21 @@ import org.scalatest.Assertions
 object TsaDriver extends Assertions {
   final case class Op(p: Long, h: Long, s: Long)
 
+  /** [[stream]] with `expected(op)` as the only right outcome, and `also(op, outcome)` for further
+    * checks; asserts that every operation was answered. Returns the cycles taken. */
+  def checkAll(c: TsaUnit, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0)
+              (expected: Op => Outcome, also: (Op, Outcome) => Unit = (_, _) => ()): Long = {
+    var checked = 0
+    val cycles = stream(c, fmt, tagWidth, ops, gapProb) { (i, op, hw) =>
+      val want = expected(op)
+      assert(hw == want, s"op $i: p=0x${fmt.hex(op.p)} h=0x${fmt.hex(op.h)} s=0x${fmt.hex(op.s)}: hardware $hw, expected $want")
+      also(op, hw)
+      checked += 1
+    }
+    assert(checked == ops.length)
+    cycles
+  }
+
   /** Runs `ops` with valid gaps of probability `gapProb` (seeded), then drains the pipeline;
     * calls `check(index, op, response)` per response. Returns the cycles taken. */
   def stream(c: TsaUnit, fmt: FloatFormat, tagWidth: Int, ops: IndexedSeq[Op], gapProb: Double = 0.0, seed: Long = 1)
