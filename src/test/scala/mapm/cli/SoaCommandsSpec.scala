@@ -37,6 +37,14 @@ class SoaCommandsSpec extends AnyFunSuite with SharedFiles {
     assert(bad == 1 && badText.contains("first: row id"), badText)
   }
 
+  test("soa-vectors --arith conventional passes a conventional file in the model; the online model fails it") {
+    val file = requireShared("vectors/conventional/bf16_public.csv").toString
+    val (ok, text) = run(SoaVectorsCommand, "--in", file, "--format", "bf16", "--arith", "conventional")
+    assert(ok == 0 && text.contains("model: 2000 rows, 0 mismatches"), text)
+    val (bad, badText) = run(SoaVectorsCommand, "--in", file, "--format", "bf16")
+    assert(bad == 1 && badText.contains("first: row id"), badText)
+  }
+
   test("bad input is one MapmError naming the problem") {
     val f = Files.createTempFile("soa", ".csv")
     Files.writeString(f, "id,kernel,brdf,h,power,contrib,expected,flags,s,m,E\n0,3f8,3c00,3c00,3c00,3c00,3c00,0,,,\n")
