@@ -5,7 +5,7 @@ import mapm.fpu.{FAdd, FDiv, FMul, FpuDepth}
 import mapm.model._
 import mapm.params.NumberParams
 import mapm.shader.{CondCheck, OnlineDiv, OnlineMul, SOA, ShaderChain}
-import mapm.tsearch.{ConvTSA, TSA}
+import mapm.tsearch.TsaUnit
 
 /** One operation on a unit's input ports (values in [[CostUnit.inPorts]] order) and the output
   * values the bit-accurate model expects for it (in [[CostUnit.outPorts]] order). */
@@ -68,13 +68,9 @@ object CostUnits {
         (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_colour_$c") ++
           (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_flags_$c") ++ Seq("io_out_bits_cond", "io_out_bits_tag"),
         SoaRate, rateNote)
-    case "tsa" if arith == Arith.Conventional =>
-      new CostUnit("tsa", ConvTSA.name(format, tagWidth, stallable = false, depth.add),
-        () => new ConvTSA(format, tagWidth, addStages = depth.add), ConvTSA.latency(depth.add),
-        IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
-        IndexedSeq("io_out_bits_tcl", "io_out_bits_tcr", "io_out_bits_error", "io_out_bits_tag"), TsaRate, rateNote)
     case "tsa" =>
-      new CostUnit("tsa", s"TSA_${format.name}_t$tagWidth", () => new TSA(format, tagWidth), TsaModel.latency(format),
+      new CostUnit("tsa", TsaUnit.name(format, tagWidth, stallable = false, arith, depth.add),
+        () => TsaUnit(format, tagWidth, stallable = false, arith, depth.add), TsaUnit.latency(format, arith, depth.add),
         IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
         IndexedSeq("io_out_bits_tcl", "io_out_bits_tcr", "io_out_bits_error", "io_out_bits_tag"), TsaRate, rateNote)
     case "cond" =>

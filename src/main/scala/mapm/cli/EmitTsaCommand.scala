@@ -6,7 +6,7 @@ import mapm.MapmError
 import mapm.fpu.FpuDepth
 import mapm.model.{Arith, FloatFormat, TsaModel}
 import mapm.sim.Emit
-import mapm.tsearch.{ConvTSA, TSA}
+import mapm.tsearch.{ConvTSA, TsaUnit}
 import Args.ArithReader
 
 /** `mapm emit-tsa`: writes the SystemVerilog of the Tree Search Accelerator for a float format. */
@@ -35,9 +35,9 @@ object EmitTsaCommand extends Command {
     val fmt = formatOf(format, exp, man)
     MapmError.check(tagWidth >= 1 && tagWidth <= 64, s"$name: --tag-width must be 1..64, got $tagWidth")
     val add = FpuDepth.of(fmt).add
-    val file = (if (arith == Arith.Online) s"TSA_${fmt.name}_t$tagWidth" else ConvTSA.name(fmt, tagWidth, stallable = false, add)) + ".sv"
+    val file = TsaUnit.name(fmt, tagWidth, stallable = false, arith, add) + ".sv"
     val path =
-      try Emit.toFile(if (arith == Arith.Online) new TSA(fmt, tagWidth) else new ConvTSA(fmt, tagWidth, addStages = add), Paths.get(out), file)
+      try Emit.toFile(TsaUnit(fmt, tagWidth, stallable = false, arith, add), Paths.get(out), file)
       catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write $out/$file: ${e.getMessage}") }
     if (arith == Arith.Online)
       println(s"wrote $path: TSA for $fmt, tag $tagWidth bits, latency ${TsaModel.latency(fmt)} cycles, " +

@@ -24,13 +24,19 @@ object ConvChainModel {
 
   /** Rules 1 and 2 for one channel: their result, or null when the channel is computed. */
   def special(f: FloatFormat, kernel: Long, brdf: Long, h: Long, power: Long, contrib: Long): Result = {
-    val factors = Array(kernel, brdf, power, contrib)
+    def zero(x: Long) = f.expField(x) == 0
+    def flushed(x: Long) = zero(x) && f.manField(x) != 0
     if (!f.isFinite(kernel) || !f.isFinite(brdf) || !f.isFinite(h) || !f.isFinite(power) || !f.isFinite(contrib) ||
-        f.expField(h) == 0) Result(f.quietNaN, Flags.INV)
-    else if (factors.exists(f.expField(_) == 0))
-      Result(0L, if (factors.exists(x => f.expField(x) == 0 && f.manField(x) != 0)) Flags.UNF else 0)
+        zero(h)) Invalid(f)
+    else if (zero(kernel) || zero(brdf) || zero(power) || zero(contrib))
+      if (flushed(kernel) || flushed(brdf) || flushed(power) || flushed(contrib)) Flushed else Zero
     else null
   }
+
+  // The special results, made once (the model runs per channel of every SO of a frame).
+  private val Zero = Result(0L, 0)
+  private val Flushed = Result(0L, Flags.UNF)
+  private def Invalid(f: FloatFormat) = Result(f.quietNaN, Flags.INV)
 
   /** The shared part of the three channels: t2 = RN(RN(kernel * brdf) / h). */
   def front(f: FloatFormat, kernel: Long, brdf: Long, h: Long): Long =

@@ -6,7 +6,7 @@ import mapm.fpu.FpuDepth
 import mapm.model.{Arith, FloatFormat, TsaModel}
 import mapm.model.TsaModel.Outcome
 import mapm.shader.{SOA, ShaderChain}
-import mapm.tsearch.{ConvTSA, TSA, TsaUnit}
+import mapm.tsearch.TsaUnit
 
 /** The [[SOA]] in Verilator: [[PipeRunner]]s of `SOA(format, g, tagWidth)` with the row encoding
   * of [[SoaRunner.Op]] and [[SoaRunner.Out]]. */
@@ -65,9 +65,8 @@ object TsaRunner {
   def run(fmt: FloatFormat, ops: IndexedSeq[(Long, Long, Long)],
           cacheDir: Path = VerilatorPipe.defaultCache, arith: Arith = Arith.Online): IndexedSeq[Outcome] = {
     val add = FpuDepth.of(fmt).add
-    val latency = if (arith == Arith.Online) TsaModel.latency(fmt) else ConvTSA.latency(add)
-    val runner = PipeRunner[TsaUnit, (Long, Long, Long, Long), Out](
-      if (arith == Arith.Online) new TSA(fmt, tagWidth) else new ConvTSA(fmt, tagWidth, addStages = add), latency, cacheDir)(_.io.in, _.io.out)(
+    val latency = TsaUnit.latency(fmt, arith, add)
+    val runner = PipeRunner(TsaUnit(fmt, tagWidth, stallable = false, arith, add), latency, cacheDir)(_.io.in, _.io.out)(
       (op: (Long, Long, Long, Long)) => Seq(BigInt(op._1), BigInt(op._2), BigInt(op._3), BigInt(op._4)),
       (o, cycle) => Out(Outcome(o(0) == 1, o(1) == 1, o(2) == 1), o(3).toLong, cycle)) // tcl, tcr, error, tag
     val out = new Array[Outcome](ops.length)

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import mapm.arith.P2S
 import mapm.fpu.FloatFields
-import mapm.model.{FloatFormat, TsaModel}
+import mapm.model.{Arith, FloatFormat, TsaModel}
 
 /** One tree-search comparison: query coordinate p, kernel radius h, split position s (bit
   * patterns of `fmt`) and an opaque tag that comes back with the outcome. */
@@ -44,6 +44,25 @@ abstract class TsaUnit extends Module {
 object TsaUnit {
   /** An operand the unit refuses: infinite or NaN, or negative and not zero. */
   def invalid(f: FloatFields, x: UInt): Bool = f.isInfOrNaN(x) || (f.sign(x) && !f.isZero(x))
+
+  /** The tree-search unit of arithmetic `arith`: the online [[TSA]], or the [[ConvTSA]] whose
+    * adders have `addStages` stages (`FpuDepth.add`). */
+  def apply(fmt: FloatFormat, tagWidth: Int, stallable: Boolean, arith: Arith, addStages: Int): TsaUnit = arith match {
+    case Arith.Online => new TSA(fmt, tagWidth, stallable)
+    case Arith.Conventional => new ConvTSA(fmt, tagWidth, stallable, addStages)
+  }
+
+  /** The module name of [[apply]]'s unit. */
+  def name(fmt: FloatFormat, tagWidth: Int, stallable: Boolean, arith: Arith, addStages: Int): String = arith match {
+    case Arith.Online => s"TSA_${fmt.name}_t$tagWidth${if (stallable) "_en" else ""}"
+    case Arith.Conventional => ConvTSA.name(fmt, tagWidth, stallable, addStages)
+  }
+
+  /** The latency of [[apply]]'s unit. */
+  def latency(fmt: FloatFormat, arith: Arith, addStages: Int): Int = arith match {
+    case Arith.Online => TsaModel.latency(fmt)
+    case Arith.Conventional => ConvTSA.latency(addStages)
+  }
 }
 
 /** Tree Search Accelerator (3.4): TC_L = (p - h < s) and TC_R = (p + h > s), exactly, for
@@ -72,7 +91,7 @@ object TsaUnit {
   */
 class TSA(fmt: FloatFormat, tagWidth: Int, stallable: Boolean = false) extends TsaUnit {
   require(tagWidth >= 1, s"tag width must be at least 1, got $tagWidth")
-  override def desiredName = s"TSA_${fmt.name}_t$tagWidth${if (stallable) "_en" else ""}"
+  override def desiredName = TsaUnit.name(fmt, tagWidth, stallable, Arith.Online, 0)
 
   /** The alignment the hardware builds (guard bits, sticky bit), shared with the model. */
   private val al = TsaModel.Alignment.exact

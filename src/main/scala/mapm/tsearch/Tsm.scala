@@ -4,7 +4,6 @@ import chisel3._
 import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.model.Arith
 import mapm.params.{MapmParams, NodeRecord, QueryData, Records, SoGroup}
 import mapm.util.Pick
 
@@ -100,10 +99,7 @@ class Tsm(p: MapmParams) extends Module {
   val stack = Module(new RegisterStack(new TsmOp(p), depth))
   io.rqPeak := stack.io.peak
   private val infoWidth = (new NextnodeInfo(p)).getWidth
-  val tsa: TsaUnit = Module(p.numbers.arith match {
-    case Arith.Online => new TSA(fmt, infoWidth, stallable = true)
-    case Arith.Conventional => new ConvTSA(fmt, infoWidth, stallable = true, FpuDepth.of(fmt, p.numbers.fpuStageWeight).add)
-  })
+  val tsa: TsaUnit = Module(TsaUnit(fmt, infoWidth, stallable = true, p.numbers.arith, FpuDepth.of(fmt, p.numbers.fpuStageWeight).add))
 
   // Query table: a slot is in use while its reference count (operations in the bank or in flight) is non-zero.
   val table = Reg(Vec(nq, new QueryData(p)))
