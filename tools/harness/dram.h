@@ -1,7 +1,8 @@
 // The DRAM the harness plays on the MAPM's memory port (docs/memory-port.md).
 //
 // A request taken in cycle t is ready at t + L, L drawn uniformly from [latency, latencyMax] per
-// request (seeded). Each cycle at most one beat leaves, chosen
+// request (seeded); with probability `tailProb` from [latencyMax, tailLatency] instead (a long
+// tail: refresh, a busy bank, a far channel). Each cycle at most one beat leaves, chosen
 // at random (seeded) among the ready requests, so responses to different ids come back in any
 // order and their beats interleave; the beats of one request stay in order. Bandwidth is a token
 // bucket: `bytesPerCycle` credit per cycle, a beat of `dataBytes` needs that much credit. With
@@ -12,6 +13,7 @@
 // is still outstanding.
 #pragma once
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <string>
@@ -29,9 +31,9 @@ class Dram {
 
   // `readable`: the [begin, end) byte ranges a request may read, each within the image.
   Dram(const std::vector<uint8_t>& image, std::vector<std::pair<uint64_t, uint64_t>> readable, int dataBytes, uint64_t latency,
-       uint64_t latencyMax, double bytesPerCycle, double respGap, uint64_t seed)
+       uint64_t latencyMax, double bytesPerCycle, double respGap, uint64_t seed, double tailProb = 0, uint64_t tailLatency = 0)
       : mem_(image), readable_(std::move(readable)), dataBytes_(dataBytes), latency_(latency), latencyMax_(latencyMax), bandwidth_(bytesPerCycle),
-        respGap_(respGap), rng_(seed) {}
+        respGap_(respGap), tailProb_(tailProb), tailLatency_(tailLatency), rng_(seed) {}
 
   // Accepts a request in `cycle`; returns an error message or "".
   std::string request(uint64_t cycle, uint64_t addr, uint64_t id, uint64_t len) {
@@ -45,7 +47,9 @@ class Dram {
              " is outside the node, photon and query arrays of the " + std::to_string(mem_.size()) + "-byte image";
     if (!ids_.insert(id).second)
       return "memory protocol: id " + std::to_string(id) + " reused while its request is outstanding";
-    const uint64_t lat = latencyMax_ > latency_ ? std::uniform_int_distribution<uint64_t>(latency_, latencyMax_)(rng_) : latency_;
+    uint64_t lat = latencyMax_ > latency_ ? std::uniform_int_distribution<uint64_t>(latency_, latencyMax_)(rng_) : latency_;
+    if (tailProb_ > 0 && std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < tailProb_)
+      lat = std::uniform_int_distribution<uint64_t>(latencyMax_, std::max(latencyMax_, tailLatency_))(rng_);
     pending_.push_back({addr, id, (uint32_t)(len + 1), 0, cycle + lat});
     requests_++;
     return "";
@@ -83,6 +87,9 @@ class Dram {
     credit_ -= dataBytes_;
     if (r.sent == r.beats) {
       ids_.erase(r.id);
+      lastDoneId_ = r.id;
+      lastDoneAddr_ = r.addr + (uint64_t)(r.beats - 1) * dataBytes_;
+      anyDone_ = true;
       pending_[chosen_] = pending_.back();
       pending_.pop_back();
     }
@@ -90,6 +97,14 @@ class Dram {
   }
 
   size_t outstanding() const { return pending_.size(); }
+  bool isOutstanding(uint64_t id) const { return ids_.count(id) != 0; }
+  // The id and last beat of the request finished last; false before any has finished.
+  bool lastDone(uint64_t* id, uint8_t* data) const {
+    if (!anyDone_) return false;
+    *id = lastDoneId_;
+    memcpy(data, &mem_[lastDoneAddr_], dataBytes_);
+    return true;
+  }
   uint64_t bytesServed() const { return bytes_; }
   uint64_t requests() const { return requests_; }
 
@@ -104,7 +119,8 @@ class Dram {
   const std::vector<std::pair<uint64_t, uint64_t>> readable_;
   int dataBytes_;
   uint64_t latency_, latencyMax_;
-  double bandwidth_, respGap_;
+  double bandwidth_, respGap_, tailProb_;
+  uint64_t tailLatency_;
   double credit_ = 0;
   std::mt19937_64 rng_;
   std::vector<Request> pending_;
@@ -113,4 +129,6 @@ class Dram {
   bool haveBeat_ = false;  // a beat is presented and held until taken (stable until taken)
   size_t chosen_ = 0;
   uint64_t bytes_ = 0, requests_ = 0;
+  bool anyDone_ = false;
+  uint64_t lastDoneId_ = 0, lastDoneAddr_ = 0;
 };

@@ -17,6 +17,7 @@
 #include "check.h"
 #include "dram.h"
 #include "expected.h"
+#include "fault.h"
 #include "image.h"
 #include "mapm_config.h"
 #include "options.h"
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   auto fatal = [&](const std::string& m) { printf("FAIL seed=%llu: %s\n", (unsigned long long)opt.seed, m.c_str()); exit(1); };
   if (!(failure = img.load(opt.image, MAPM_EXP_WIDTH, MAPM_MAN_WIDTH, MAPM_SLOT_BYTES)).empty()) fatal(failure);
   if (!(failure = exp.load(opt.expected, img.queries)).empty()) fatal(failure);
+  if (!(failure = corruptImage(opt.fault, img)).empty()) fatal(failure);
   if (exp.ew != img.ew || exp.mw != img.mw) fatal("the expected-SO file and the image use different formats");
   const uint64_t pixels = (uint64_t)exp.width * exp.height;
   for (uint32_t q = 0; q < img.queries; q++)
@@ -44,7 +46,8 @@ int main(int argc, char** argv) {
   Bench bench(argc, argv, opt);
   bench.reset(img);
   Dram dram(img.bytes, img.readable(), MAPM_MEM_DATA_BYTES, opt.latency, opt.latencyMax ? opt.latencyMax : opt.latency, opt.bandwidth, opt.respGap,
-            opt.seed);
+            opt.seed, opt.tailProb, opt.tailLatency);
+  ResponseFault respFault(opt.fault, opt.faultAt, MAPM_MEM_ID_BITS);
   // Host-side randomness (query-stream gaps, request back-pressure), apart from the DRAM's.
   std::mt19937_64 host(opt.seed * 0x9e3779b97f4a7c15ull + 1);
   std::uniform_real_distribution<double> coin(0.0, 1.0);
@@ -64,8 +67,11 @@ int main(int argc, char** argv) {
     if (d.queryValid) {
       const uint32_t k = (uint32_t)fed;
       d.x = img.streamX(k); d.y = img.streamY(k); d.z = img.streamZ(k); d.q = img.streamQuery(k);
+      if (opt.fault == Fault::QueryIndex && k == 0) d.q = img.queries + 1000;
     }
     d.respValid = dram.present(cycle, beat, &d.respId, &d.respLast);
+    const bool faultBeat = respFault.inject(cycle, dram, beat, MAPM_MEM_DATA_BYTES, &d.respId, &d.respLast);
+    d.respValid = d.respValid || faultBeat;
     d.respData = beat;
     const Sample s = bench.drive(d);
     if (fed == img.queries && s.done) {
@@ -79,7 +85,7 @@ int main(int argc, char** argv) {
     // Apply the cycle's handshakes and results.
     if (qFire) { check.taken(img.streamQuery((uint32_t)fed)); fed++; }
     if (reqFire) failure = dram.request(cycle, s.reqAddr, s.reqId, s.reqLen);
-    if (respFire) dram.taken();
+    if (respFire && !faultBeat) dram.taken();
     bool anyOut = false;
     for (int p = 0; p < MAPM_OUT_PORTS && failure.empty(); p++) {
       if (!s.out[p].valid) continue;
@@ -105,6 +111,10 @@ int main(int argc, char** argv) {
   progress();
   if (failure.empty() && fed < img.queries) failure = "done before every query was fed";
   if (failure.empty()) failure = check.missing();
+  if (failure.empty() && opt.fault != Fault::None) failure = std::string("the injected fault was not flagged");
+  if (!failure.empty() && opt.fault != Fault::None)
+    failure += std::string(" (injected fault: ") + faultName(opt.fault) +
+               (respFault.injected() ? " at cycle " + std::to_string(respFault.cycle()) : std::string()) + ")";
   bench.finish();
 
   std::vector<double> rgb(3 * pixels);

@@ -3,21 +3,27 @@
 #pragma once
 #include <getopt.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
+#include "fault.h"
+
 struct Options {
   std::string image, expected, out = ".", wave;
   uint64_t latency = 100, latencyMax = 0, maxCycles = 0, idleCycles = 200000, seed = 1, waveStart = 0, waveEnd = UINT64_MAX;
-  double bandwidth = 14.0, clockGhz = 1.5, queryGap = 0, reqStall = 0, respGap = 0;
+  double bandwidth = 14.0, clockGhz = 1.5, queryGap = 0, reqStall = 0, respGap = 0, tailProb = 0;
+  uint64_t tailLatency = 0, faultAt = 0;
+  Fault fault = Fault::None;
 };
 
 [[noreturn]] inline void usage(const std::string& msg) {
   fprintf(stderr,
           "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--latency-max N] [--bandwidth B]\n"
-          "  [--query-gap P] [--req-stall P] [--resp-gap P] [--max-cycles N] [--idle-cycles N] [--seed N] [--clock-ghz F]\n"
+          "  [--query-gap P] [--req-stall P] [--resp-gap P] [--tail-prob P --tail-latency N] [--max-cycles N] [--idle-cycles N]\n"
+          "  [--seed N] [--clock-ghz F] [--fault node-axis|node-child|query-index|unknown-id|duplicate-response [--fault-at N]]\n"
           "  [--wave FILE.fst --wave-start N --wave-end N]\n",
           msg.c_str());
   exit(2);
@@ -25,7 +31,7 @@ struct Options {
 
 inline Options parseOptions(int argc, char** argv) {
   enum { IMAGE = 1, EXPECTED, OUT, LATENCY, LATENCY_MAX, BANDWIDTH, QUERY_GAP, REQ_STALL, RESP_GAP, MAX_CYCLES, IDLE_CYCLES,
-         SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END };
+         SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END, TAIL_PROB, TAIL_LATENCY, FAULT, FAULT_AT };
   static const option longOptions[] = {
       {"image", required_argument, nullptr, IMAGE},           {"expected", required_argument, nullptr, EXPECTED},
       {"out", required_argument, nullptr, OUT},               {"latency", required_argument, nullptr, LATENCY},
@@ -35,6 +41,8 @@ inline Options parseOptions(int argc, char** argv) {
       {"idle-cycles", required_argument, nullptr, IDLE_CYCLES}, {"seed", required_argument, nullptr, SEED},
       {"clock-ghz", required_argument, nullptr, CLOCK_GHZ},   {"wave", required_argument, nullptr, WAVE},
       {"wave-start", required_argument, nullptr, WAVE_START}, {"wave-end", required_argument, nullptr, WAVE_END},
+      {"tail-prob", required_argument, nullptr, TAIL_PROB},   {"tail-latency", required_argument, nullptr, TAIL_LATENCY},
+      {"fault", required_argument, nullptr, FAULT},           {"fault-at", required_argument, nullptr, FAULT_AT},
       {nullptr, 0, nullptr, 0}};
   Options o;
   opterr = 0;  // the errors below say what went wrong
@@ -65,11 +73,16 @@ inline Options parseOptions(int argc, char** argv) {
       case WAVE: o.wave = v; break;
       case WAVE_START: o.waveStart = u(); break;
       case WAVE_END: o.waveEnd = u(); break;
+      case TAIL_PROB: o.tailProb = prob(); break;
+      case TAIL_LATENCY: o.tailLatency = u(); break;
+      case FAULT: if (!parseFault(v, &o.fault)) usage("--fault: unknown fault " + v); break;
+      case FAULT_AT: o.faultAt = u(); break;
     }
   }
   for (int i = optind; i < argc; i++)  // getopt_long moves the arguments that are not options here
     if (std::string(argv[i]).rfind("+verilator", 0) != 0) usage("unknown option " + std::string(argv[i]));
   if (o.image.empty() || o.expected.empty()) usage("--image and --expected are required");
   if (o.latencyMax && o.latencyMax < o.latency) usage("--latency-max must be at least --latency");
+  if (o.tailProb > 0 && o.tailLatency < std::max(o.latency, o.latencyMax)) usage("--tail-latency must be at least --latency-max");
   return o;
 }

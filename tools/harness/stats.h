@@ -48,6 +48,9 @@ inline bool writeStats(const std::string& path, const Options& opt, const RunSum
   j.num("queryGap", opt.queryGap);
   j.num("reqStall", opt.reqStall);
   j.num("respGap", opt.respGap);
+  j.num("tailProb", opt.tailProb);
+  j.integer("tailLatency", opt.tailLatency);
+  j.str("fault", faultName(opt.fault));
   j.num("bandwidthBytesPerCycle", opt.bandwidth);
   j.num("clockGHz", opt.clockGhz);
   j.integer("cycles", r.cycles);

@@ -34,7 +34,8 @@ object Main {
     EmitSoaCommand,
     SoaVectorsCommand,
     SoaBenchCommand,
-    CostCommand
+    CostCommand,
+    StressCommand
   )
 
   def usage: String = {

@@ -23,6 +23,8 @@ final case class RtlOptions(
     @arg(doc = "probability of a gap in the query stream each cycle") queryGap: Double = 0,
     @arg(doc = "probability that the memory refuses a request each cycle") reqStall: Double = 0,
     @arg(doc = "probability that the memory holds back a ready response beat") respGap: Double = 0,
+    @arg(doc = "probability that a request's latency comes from the long tail [latency-max, tail-latency]") tailProb: Double = 0,
+    @arg(doc = "longest latency of the tail, in cycles") tailLatency: Int = 0,
     @arg(doc = "memory bandwidth in bytes per cycle") bandwidth: Double = 14.0,
     @arg(doc = "clock for the GB/s figure, in GHz") clockGhz: Double = 1.5,
     @arg(doc = "seed of the memory's response reordering") seed: Long = 1,
@@ -34,7 +36,7 @@ final case class RtlOptions(
   /** The harness's options for each run, with an FST waveform of cycles [waveStart, waveEnd] when `wave` is given. */
   def harness(wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue): Harness.RunOptions =
     Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave, waveStart, waveEnd, latencyMax, queryGap, reqStall,
-      respGap, simThreads)
+      respGap, simThreads, tailProb, tailLatency)
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
   def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads, layout, arith)

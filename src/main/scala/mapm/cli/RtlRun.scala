@@ -43,7 +43,7 @@ object RtlRun {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith) }
+    val params = configs.map { case (t, s, a) => mapm.top.Mapm.check(MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith)) }
     val frame = Frame.prepare(config, fmt, threads)
     val name = ModelRun.sceneName(Paths.get(scene)) + (if (arith == Arith.Online) "" else "-conv")
     val work = Paths.get(outDir).resolve(s"$name-rtl")

@@ -1,10 +1,13 @@
 package mapm.format
 
+import mapm.model.NodeWord
+
 /** Turns [[Record]]s into a C++ header: per record a `NAME_BYTES` constant and per field an
   * inline little-endian getter (`static inline uint32_t node_split(const uint8_t* rec)`), so the
   * harness reads every file through the same definitions as the Scala writers. A record whose
   * layout depends on the slot size ([[slotted]]) gets getters that take the slot, choosing the
-  * layout at run time, and a `name_bytes(slot)` function instead of the constant.
+  * layout at run time, a `name_field_offset(slot)` function per field (where the harness writes
+  * a field: the injected faults) and a `name_bytes(slot)` function instead of the constant.
   */
 object CHeader {
   /** The getters' C type for a field of `bytes` bytes. */
@@ -29,9 +32,10 @@ object CHeader {
       bySlot.init.map { case (s, r) => s"slot == $s ? ${value(r)} : " }.mkString + value(rs.last)
     val name = rs.head.name
     (s"static inline uint32_t ${name}_bytes(unsigned slot) { return ${choose(_.bytes.toString)}; }" +:
-      rs.head.fields.map { f =>
+      rs.head.fields.flatMap { f =>
         val ty = cType(rs.map(_(f.name).bytes).max)
-        s"static inline $ty ${name}_${f.name}(const uint8_t* rec, unsigned slot) { return ${choose(r => read(r(f.name).bytes, r(f.name).offset))}; }"
+        Seq(s"static inline $ty ${name}_${f.name}(const uint8_t* rec, unsigned slot) { return ${choose(r => read(r(f.name).bytes, r(f.name).offset))}; }",
+          s"static inline uint32_t ${name}_${f.name}_offset(unsigned slot) { return ${choose(_(f.name).offset.toString)}; }")
       }).mkString("\n")
   }
 
@@ -55,7 +59,9 @@ object CHeader {
   def formats: String = header("mapm.format.CHeader", Seq(
     "IMAGE_MAGIC" -> Record.magic(MemoryLayout.Magic), "IMAGE_VERSION" -> MemoryLayout.Version.toLong,
     "EXPECTED_MAGIC" -> Record.magic(ExpectedSoFile.Magic), "EXPECTED_VERSION" -> ExpectedSoFile.Version.toLong,
-    "SO_FLAG_BITS" -> ExpectedSoFile.FlagBits.toLong, "SO_COND_BIT" -> ExpectedSoFile.CondBit.toLong), Seq(
+    "SO_FLAG_BITS" -> ExpectedSoFile.FlagBits.toLong, "SO_COND_BIT" -> ExpectedSoFile.CondBit.toLong,
+    "NODE_AXIS_MASK" -> NodeWord.AxisMask.toLong, "NODE_HAS_RIGHT" -> NodeWord.HasRight.toLong,
+    "NODE_RIGHT_IS_LEAF" -> NodeWord.RightIsLeaf.toLong, "NODE_RIGHT_SHIFT" -> NodeWord.RightShift.toLong), Seq(
     record(MemoryLayout.header)) ++
     Seq[Int => Record](MemoryLayout.node, MemoryLayout.photon, MemoryLayout.query, MemoryLayout.stream).map(r => slotted(bySlot.map(s => s -> r(s)))) ++
     Seq(record(ExpectedSoFile.header), slotted(Seq(8, 4).map(c => c -> ExpectedSoFile.record(c)))))

@@ -36,6 +36,9 @@ class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends M
   val io = IO(new Bundle {
     val up = MixedVec(ups.map(p => Flipped(new MemPort(p))))
     val down = new MemPort(downParams)
+    /** Sticky: a response beat whose id names no requester (dropped), or a last beat with no
+      * request in flight. */
+    val protocolError = Output(Bool())
   })
 
   // Requests in flight on `down`.
@@ -43,7 +46,7 @@ class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends M
   val room = inFlight < maxOutstanding.U
   val issued = io.down.req.fire
   val retired = io.down.resp.fire && io.down.resp.bits.last
-  inFlight := inFlight + issued.asUInt - retired.asUInt
+  inFlight := inFlight + issued.asUInt - (retired && inFlight =/= 0.U).asUInt
 
   // Round-robin grant, held while the granted request waits on `down`.
   val last = RegInit((n - 1).U(selBits.W))
@@ -70,15 +73,19 @@ class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends M
   }
   when(issued) { last := src }
 
-  // Response beats route back by the source bits of their id.
+  // Response beats route back by the source bits of their id; a beat for no requester is dropped.
   val respSrc = if (n == 1) 0.U else io.down.resp.bits.id(idBits + srcBits - 1, idBits)
+  private val srcKnown = if (isPow2(n)) true.B else respSrc < n.U
+  private val protocolError = RegInit(false.B)
+  when((io.down.resp.fire && !srcKnown) || (retired && inFlight === 0.U)) { protocolError := true.B }
+  io.protocolError := protocolError
   for (i <- 0 until n) {
     io.up(i).resp.valid := io.down.resp.valid && respSrc === i.U
     io.up(i).resp.bits.data := io.down.resp.bits.data
     io.up(i).resp.bits.id := io.down.resp.bits.id(ups(i).idBits - 1, 0)
     io.up(i).resp.bits.last := io.down.resp.bits.last
   }
-  io.down.resp.ready := (if (n == 1) io.up(0).resp.ready else VecInit(io.up.map(_.resp.ready))(respSrc))
+  io.down.resp.ready := (if (n == 1) io.up(0).resp.ready else !srcKnown || VecInit(io.up.map(_.resp.ready))(respSrc))
 }
 
 object MemArbiter {

@@ -66,10 +66,16 @@ class MissTable(cfg: CacheConfig) extends Module {
       val data = UInt(cfg.down.dataBits.W)
     })
     val down = new MemPort(cfg.down)
+    /** Sticky: a response beat no MSHR was waiting for (an unknown id, an id whose request has not
+      * left, a beat after the line's last one, a duplicate response) or a `last` flag on the
+      * wrong beat. The beat is dropped. */
+    val protocolError = Output(Bool())
   })
 
   class Mshr extends Bundle {
     val valid = Bool()
+    /** Its request has left on `down.req`. */
+    val issued = Bool()
     val filled = Bool()
     val set = UInt(setW.W)
     val way = UInt(cfg.wayBits.W)
@@ -102,10 +108,16 @@ class MissTable(cfg: CacheConfig) extends Module {
   io.down.req.bits.len := (cfg.beatsPerLine - 1).U
   issue.io.deq.ready := io.down.req.ready
 
-  // Refill beats go straight into the data array.
+  // Refill beats go straight into the data array; a beat no MSHR waits for is flagged and dropped.
   io.down.resp.ready := true.B
   val beatMshr = at(mshrs, io.down.resp.bits.id)
-  io.fill.valid := io.down.resp.valid
+  private val knownId = if (isPow2(cfg.mshrs) && cfg.mshrBits == log2Ceil(cfg.mshrs)) true.B else io.down.resp.bits.id < cfg.mshrs.U
+  private val lastBeat = beatMshr.beat === (cfg.beatsPerLine - 1).U
+  val beatOk = knownId && beatMshr.valid && beatMshr.issued && !beatMshr.filled && io.down.resp.bits.last === lastBeat
+  val protocolError = RegInit(false.B)
+  when(io.down.resp.fire && !beatOk) { protocolError := true.B }
+  io.protocolError := protocolError
+  io.fill.valid := io.down.resp.valid && beatOk
   io.fill.bits.row := rowOf(beatMshr)
   io.fill.bits.beat := beatMshr.beat
   io.fill.bits.data := io.down.resp.bits.data
@@ -121,9 +133,11 @@ class MissTable(cfg: CacheConfig) extends Module {
 
   for (m <- 0 until cfg.mshrs) {
     val waiting = targets.zip(targetValid).map { case (t, v) => v && t.mshr === m.U }.reduce(_ || _)
-    val beatHere = io.down.resp.fire && io.down.resp.bits.id === m.U
+    val beatHere = io.down.resp.fire && beatOk && io.down.resp.bits.id === m.U
+    when(io.down.req.fire && issue.io.deq.bits === m.U) { mshrs(m).issued := true.B }
     when(io.alloc && io.allocMshr === m.U) {
       mshrs(m).valid := true.B
+      mshrs(m).issued := false.B
       mshrs(m).filled := false.B
       mshrs(m).set := io.set
       mshrs(m).way := io.victimWay

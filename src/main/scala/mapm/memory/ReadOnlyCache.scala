@@ -118,7 +118,7 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
     (if (wordOff == 0) false.B else io.up.req.bits.addr(wordOff - 1, 0) =/= 0.U)
   val protocolError = RegInit(false.B)
   when(io.up.req.fire && badRequest) { protocolError := true.B }
-  io.protocolError := protocolError
+  io.protocolError := protocolError || miss.io.protocolError
 
   // A stalled lookup rereads its own set, so the row it sees is never older than one write.
   val readSet = Mux(s1Valid && !s1Done, s1Set, setOf(wordAddr(io.up.req.bits.addr)))

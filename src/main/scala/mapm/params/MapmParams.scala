@@ -49,10 +49,19 @@ final case class ModuleCounts(
     som: Int = 16,  // Shader Operation Modules
     soaPerSom: Int = 2 // Shader Operation Accelerators in each SOM
 ) {
-  require(tsm >= 1, s"TSM count must be at least 1, got $tsm")
-  require(som >= 1, s"SOM count must be at least 1, got $som")
-  require(soaPerSom >= 1, s"SOAs per SOM must be at least 1, got $soaPerSom")
+  require(tsm >= 1 && tsm <= ModuleCounts.MaxTsm, s"--tsm (TSM count) must be 1..${ModuleCounts.MaxTsm}, got $tsm")
+  require(som >= 1 && som <= ModuleCounts.MaxSom, s"--som (SOM count) must be 1..${ModuleCounts.MaxSom}, got $som")
+  require(soaPerSom >= 1 && soaPerSom <= ModuleCounts.MaxSoaPerSom, s"--soa (SOAs per SOM) must be 1..${ModuleCounts.MaxSoaPerSom}, got $soaPerSom")
   def label: String = s"$tsm/$som/$soaPerSom"
+}
+
+object ModuleCounts {
+  /** The largest counts the generator takes. Beyond them the memory-port ids outgrow 16 bits (the
+    * TS L2 and SOP L2 tag each request with its requester's index), and the design is far past
+    * what elaborates in this machine's memory (docs/mapm.md "Limits"). */
+  val MaxTsm = 1024
+  val MaxSom = 1024
+  val MaxSoaPerSom = 16
 }
 
 /** Number format of every value the accelerator computes on. */
@@ -190,7 +199,6 @@ object MapmParams {
          registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None, layout: SlotLayout = SlotLayout.Packed,
          arith: Arith = Arith.Online): MapmParams =
     try {
-      require(tsm >= 1 && som >= 1 && soa >= 1, s"module counts must be at least 1, got $tsm/$som/$soa")
       val base = table48(tsm, som, soa)
       val r = new Records(layout.slotBytes(format))
       def fit(c: CacheParams, bytes: Int) = if (c.lineBytes >= bytes) c else c.copy(lineBytes = bytes)

@@ -39,9 +39,12 @@ class DataBus(p: MapmParams) extends Module {
     val need = Som.needs(g.bits, a)
     VecInit(io.free.map(f => g.valid && need.zip(f).map { case (n, fr) => n <= fr }.reduce(_ && _))).asUInt
   })
-  /** (start + k) mod n for a constant k < n. */
+  /** (start + k) mod n for a constant k < n; for a power-of-two n the low bits of the sum (no
+    * compare, no mixed-width select for lint to flag). */
   private def rot(start: UInt, k: Int, n: Int): UInt =
-    if (n == 1) 0.U else { val x = start +& k.U; Mux(x >= n.U, x - n.U, x)(Pick.bits(n) - 1, 0) }
+    if (n == 1) 0.U
+    else if (isPow2(n)) (start +% k.U(start.getWidth.W))(Pick.bits(n) - 1, 0)
+    else { val x = start +& k.U; Mux(x >= n.U, x - n.U, x)(Pick.bits(n) - 1, 0) }
 
   // Claims in rotated TSM order; claim(k) is the SOM (one-hot) taken by the k-th group in that order.
   private var avail = ((BigInt(1) << s) - 1).U(s.W)

@@ -62,7 +62,7 @@ class SoBlock(p: MapmParams) extends Module {
     }
   }
   io.idle := soms.map(_.io.idle).reduce(_ && _)
-  io.error := l2.io.protocolError || soms.map(_.io.error).reduce(_ || _)
+  io.error := l2.io.protocolError || arb.io.protocolError || soms.map(_.io.error).reduce(_ || _)
 
   import Pick.counter
   io.counters.soIssued := counter(soms.flatMap(_.io.issued))

@@ -85,27 +85,39 @@ object Harness {
   }
 
   /** Options of one harness run (defaults as in docs/harness.md). `latencyMax` > `latency` draws each
-    * request's latency uniformly from [latency, latencyMax]; `queryGap`, `reqStall` and `respGap` are
+    * request's latency uniformly from [latency, latencyMax], and with probability `tailProb` from
+    * [latencyMax, tailLatency] instead (a long tail); `queryGap`, `reqStall` and `respGap` are
     * per-cycle probabilities of a gap in the query stream, of refusing a memory request and of
-    * holding back a response beat. `simThreads` > 1 runs a multithreaded model. */
+    * holding back a response beat. `simThreads` > 1 runs a multithreaded model. `fault` injects one
+    * of [[Faults]] (from cycle `faultAt`): the run must then FAIL, naming it. */
   final case class RunOptions(latency: Int = 100, bandwidth: Double = 14.0, seed: Long = 1, maxCycles: Long = 0,
                               clockGhz: Double = 1.5, wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue,
                               latencyMax: Int = 0, queryGap: Double = 0, reqStall: Double = 0, respGap: Double = 0,
-                              simThreads: Int = 1) {
+                              simThreads: Int = 1, tailProb: Double = 0, tailLatency: Int = 0, fault: Option[String] = None,
+                              faultAt: Long = 0) {
     MapmError.check(simThreads >= 1 && simThreads <= 64, s"--sim-threads must be 1..64, got $simThreads")
     MapmError.check(latency >= 0, s"--latency must be at least 0, got $latency")
     MapmError.check(latencyMax == 0 || latencyMax >= latency, s"--latency-max must be at least --latency, got $latencyMax")
     MapmError.check(bandwidth > 0, s"--bandwidth must be positive, got $bandwidth")
     MapmError.check(maxCycles >= 0, s"--max-cycles must be at least 0, got $maxCycles")
     MapmError.check(clockGhz > 0, s"--clock-ghz must be positive, got $clockGhz")
-    for ((n, v) <- Seq("query gap" -> queryGap, "request stall" -> reqStall, "response gap" -> respGap))
-      MapmError.check(v >= 0 && v < 1, s"$n probability must be in [0, 1), got $v")
+    for ((n, v) <- Seq("--query-gap" -> queryGap, "--req-stall" -> reqStall, "--resp-gap" -> respGap, "--tail-prob" -> tailProb))
+      MapmError.check(v >= 0 && v < 1, s"$n must be a probability in [0, 1), got $v")
+    MapmError.check(tailProb == 0 || tailLatency >= (latencyMax max latency),
+      s"--tail-latency must be at least --latency-max (${latencyMax max latency}) when --tail-prob is set, got $tailLatency")
+    fault.foreach(f => MapmError.check(Harness.Faults.contains(f), s"--fault must be one of ${Harness.Faults.mkString(", ")}, got $f"))
+    MapmError.check(faultAt >= 0, s"--fault-at must be at least 0, got $faultAt")
     def args: Seq[String] = Seq("--latency", latency.toString, "--bandwidth", bandwidth.toString, "--seed", seed.toString,
       "--max-cycles", maxCycles.toString, "--clock-ghz", clockGhz.toString) ++
       (if (latencyMax > 0) Seq("--latency-max", latencyMax.toString) else Seq.empty) ++
-      Seq("--query-gap" -> queryGap, "--req-stall" -> reqStall, "--resp-gap" -> respGap).filter(_._2 > 0).flatMap { case (k, v) => Seq(k, v.toString) } ++
+      Seq("--query-gap" -> queryGap, "--req-stall" -> reqStall, "--resp-gap" -> respGap, "--tail-prob" -> tailProb).filter(_._2 > 0).flatMap { case (k, v) => Seq(k, v.toString) } ++
+      (if (tailProb > 0) Seq("--tail-latency", tailLatency.toString) else Seq.empty) ++
+      fault.toSeq.flatMap(f => Seq("--fault", f, "--fault-at", faultAt.toString)) ++
       wave.toSeq.flatMap(w => Seq("--wave", w.toString, "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString))
   }
+
+  /** The faults the harness injects (`--fault`, tools/harness/fault.h, docs/harness.md). */
+  val Faults: Seq[String] = Seq("node-axis", "node-child", "query-index", "unknown-id", "duplicate-response")
 
   /** The verdict line, the stats (None if the harness wrote none) and the frame (raw doubles). */
   final case class Outcome(passed: Boolean, verdict: String, stats: Option[HarnessStats], frame: Option[Array[Double]])

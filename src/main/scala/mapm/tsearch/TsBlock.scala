@@ -92,7 +92,7 @@ class TsBlock(p: MapmParams) extends Module {
   when(offered && anyWilling) { last := chosen }
 
   io.idle := fetch.io.idle && tsms.map(_.io.idle).reduce(_ && _)
-  io.error := fetch.io.error || l2.io.protocolError || tsms.map(_.io.error).reduce(_ || _)
+  io.error := fetch.io.error || l2.io.protocolError || arb.io.protocolError || tsms.map(_.io.error).reduce(_ || _)
 
   // Counters.
   import Pick.counter
