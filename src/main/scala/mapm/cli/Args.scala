@@ -10,11 +10,13 @@ import mapm.model.FloatFormat
 object Args {
   /** Parses `args` for the single `@main` method of `container` and runs it. A parse error
     * (unknown flag, bad value) becomes a [[MapmError]]; `--help` prints the usage. */
-  def run[B](container: ParserForMethods[B], args: Seq[String], name: String): Int = {
+  def run[B](container: ParserForMethods[B], args: Seq[String], name: String, folders: Set[String] = Set("--out"),
+             files: Set[String] = Set("--wave")): Int = {
     if (args.contains("--help") || args.contains("-h")) {
       println(container.helpText(totalWidth = 100, docsOnNewLine = false, customNames = Map.empty, customDocs = Map.empty, sorted = true, nameMapper = mainargs.Util.kebabCaseNameMapper).replace("mapm.cli.", ""))
       return 0
     }
+    checkOutputs(args, folders, files)
     container.runRaw(args, allowPositional = false, allowRepeats = false, nameMapper = mainargs.Util.kebabCaseNameMapper) match {
       case mainargs.Result.Success(code: Int)         => code
       case mainargs.Result.Success(_)                 => 0
@@ -26,6 +28,22 @@ object Args {
         MapmError.fail(s"$name: $first (mapm $name --help lists the options)")
     }
   }
+
+  /** Makes every output folder named by an option in `folders` and the folder of every output file
+    * named by one in `files`, before any work: a path that cannot be made or written is a one-line
+    * [[MapmError]] naming the option, not a failure at the end of a long run. */
+  def checkOutputs(args: Seq[String], folders: Set[String], files: Set[String]): Unit =
+    for (Seq(opt, value) <- args.sliding(2) if folders(opt) || files(opt)) {
+      val path = java.nio.file.Paths.get(value).toAbsolutePath
+      val dir = if (folders(opt)) path else path.getParent
+      try java.nio.file.Files.createDirectories(dir)
+      catch { case e: java.io.IOException => MapmError.fail(s"$opt $value: cannot create the folder $dir (${e.getClass.getSimpleName})") }
+      MapmError.check(java.nio.file.Files.isWritable(dir), s"$opt $value: the folder $dir is not writable")
+    }
+
+  /** A seed must be a non-negative 64-bit number (the harness reads it unsigned). */
+  def checkSeed(seed: Long, option: String = "--seed"): Unit =
+    MapmError.check(seed >= 0, s"$option must be 0..${Long.MaxValue}, got $seed")
 
   implicit object FloatFormatReader extends TokensReader.Simple[FloatFormat] {
     def shortName = "format"

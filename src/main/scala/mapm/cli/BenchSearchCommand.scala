@@ -31,6 +31,7 @@ object BenchSearchCommand extends Command {
       @arg(doc = "untimed warm-up runs first (JIT)") warmup: Int = 2,
       @arg(doc = "random seed") seed: Long = 1
   ): Int = {
+    Args.checkSeed(seed)
     MapmError.check(photons >= 1 && queries >= 1, "bench-search: --photons and --queries must be at least 1")
     MapmError.check(soPerQuery > 0, "bench-search: --so-per-query must be positive")
     MapmError.check(repeat >= 1, "bench-search: --repeat must be at least 1")

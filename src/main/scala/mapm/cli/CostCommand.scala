@@ -39,6 +39,7 @@ object CostCommand extends Command {
       @arg(doc = "seed of the valid pattern and of random operations") seed: Long = 1,
       @arg(doc = "output directory") out: String = "out/cost"
   ): Int = {
+    Args.checkSeed(seed)
     val clocks = CostFlow.parseClocks(clock)
     MapmError.check(g >= 0 && g <= 8, s"cost: --g must be 0..8, got $g")
     MapmError.check(fpuWeight >= 0.5 && fpuWeight <= 100, s"cost: --fpu-weight must be 0.5..100, got $fpuWeight")
@@ -99,7 +100,7 @@ object CostCommand extends Command {
         println(s"wrote ${base.resolve("compare-system.json")} and compare-system.md")
         if (figures.forall(_.passed)) 0 else MapmError.fail("cost: a render failed its checks (see above)")
       case (None, 3) =>
-        val base0 = mapm.top.Mapm.check(mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g, arith = arith))
+        val base0 = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g, arith = arith)
         val params = base0.copy(numbers = base0.numbers.copy(fpuStageWeight = fpuWeight))
         val base = Paths.get(out)
         val frame = if (stimulus == "frame") Some(CostFlow.frame(scene, format)) else None

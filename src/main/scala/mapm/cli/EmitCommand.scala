@@ -31,7 +31,7 @@ object EmitCommand extends Command {
       @arg(doc = "reservation-station entries per SOM (default 8 per SOA)") rsEntries: Option[Int] = None,
       @arg(doc = "output directory") out: String = "out/mapm"
   ): Int = {
-    val p = mapm.top.Mapm.check(MapmParams.of(tsm, som, soa, format, g, rqDepth, rsEntries, layout, arith))
+    val p = MapmParams.of(tsm, som, soa, format, g, rqDepth, rsEntries, layout, arith)
     val top = s"Mapm_${p.name}"
     val dir = Paths.get(out)
     val t0 = System.nanoTime()

@@ -15,7 +15,8 @@ trait Command {
 
 /** Entry point of `tools/mapm` and `tools/sbt "run ..."`.
   *
-  * Every [[MapmError]] becomes one line `mapm: <message>` on stderr and exit code 1; any other
+  * Every [[MapmError]] becomes one line `mapm: <message>` on stderr and exit code 1 (so does a
+  * file that cannot be read or written, an IOException); any other
   * exception is reported the same way as an internal error (its stack trace only when
   * MAPM_DEBUG=1), so a user never sees a stack trace for bad input.
   */
@@ -35,7 +36,9 @@ object Main {
     SoaVectorsCommand,
     SoaBenchCommand,
     CostCommand,
-    StressCommand
+    StressCommand,
+    FuzzCommand,
+    LintCommand
   )
 
   def usage: String = {
@@ -60,6 +63,8 @@ object Main {
       catch {
         case e: MapmError =>
           System.err.println(s"mapm: ${e.getMessage}"); 1
+        case e @ (_: java.io.IOException | _: java.io.UncheckedIOException) =>
+          System.err.println(s"mapm: cannot read or write a file: ${e.getClass.getSimpleName}: ${String.valueOf(e.getMessage).linesIterator.nextOption().getOrElse("")}"); 1
         case e: OutOfMemoryError =>
           System.err.println("mapm: out of memory (raise -Xmx through MAPM_JAVA_OPTS, or render a smaller scene)"); 1
         case e: Throwable =>

@@ -43,7 +43,8 @@ object RtlRun {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => mapm.top.Mapm.check(MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith)) }
+    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith) }
+    checkFits(config, params.headOption.getOrElse(MapmParams.default).indices)
     val frame = Frame.prepare(config, fmt, threads)
     val name = ModelRun.sceneName(Paths.get(scene)) + (if (arith == Arith.Online) "" else "-conv")
     val work = Paths.get(outDir).resolve(s"$name-rtl")
@@ -56,6 +57,17 @@ object RtlRun {
     val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith)
     Setup(params, Prepared(name, config, frame, layout, image, expected, model, work,
       frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)), arith))
+  }
+
+  /** Fails, before any work, when the scene can need more query points or photons than the
+    * hardware's indices count (`width x height x finalGatherRays` is the most query points a frame
+    * can have; the photon tree has one node per photon). */
+  def checkFits(config: SceneConfig, ix: mapm.params.IndexParams): Unit = {
+    val queries = config.width.toLong * config.height * config.finalGatherRays
+    MapmError.check(queries <= (1L << ix.queryBits), s"${config.file}: up to $queries query points (width x height x finalGatherRays) " +
+      s"exceed the hardware's ${ix.queryBits}-bit query index (at most ${1L << ix.queryBits})")
+    MapmError.check(config.photons.toLong <= (1L << ix.nodeBits), s"${config.file}: ${config.photons} photons exceed the hardware's " +
+      s"${ix.nodeBits}-bit node index (at most ${1L << ix.nodeBits} photons)")
   }
 
   /** The frame of [[setup]] alone, for callers that make their own configurations in its format. */

@@ -21,6 +21,7 @@ object SoaBenchCommand extends Command {
       @arg(doc = "random operations per timed pass (3 channels each)") ops: Int = 1000000,
       @arg(doc = "random seed") seed: Long = 1
   ): Int = {
+    Args.checkSeed(seed)
     MapmError.check(ops >= 1, s"soa-bench: --ops must be at least 1, got $ops")
     val model = new ShaderChainModel(format, g)
     val rnd = new scala.util.Random(seed)

@@ -112,5 +112,5 @@ object TsaVectorsCommand extends Command {
     if (bad.isEmpty) 0 else 1
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name, folders = Set.empty, files = Set("--out"))
 }

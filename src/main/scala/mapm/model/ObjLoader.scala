@@ -155,8 +155,11 @@ object ObjLoader {
       // The library delimits the materials; their values are the checker's exact doubles (the
       // library keeps single-precision floats).
       for (m <- mtls) {
-        val kd = values.getOrElse((m.getName, "kd"),
-          MapmError.fail(s"$file:${defined(m.getName)}: material '${m.getName}' has no Kd"))
+        // The library splits lines its own way; a name it reads that no newmtl line gave the checker
+        // (unusual spaces or control characters around it) is an error, not a guess.
+        val line = defined.getOrElse(m.getName, MapmError.fail(
+          s"$file: material name '${m.getName.filter(c => c >= ' ')}' is read differently by the OBJ library than written (unusual spaces or control characters)"))
+        val kd = values.getOrElse((m.getName, "kd"), MapmError.fail(s"$file:$line: material '${m.getName}' has no Kd"))
         found(m.getName) = Material(m.getName, kd, values.getOrElse((m.getName, "ke"), Vec3.zero))
       }
     }

@@ -120,6 +120,7 @@ object SceneConfig {
     if (width.toLong * height * fgr > Int.MaxValue)
       r.fail("finalGatherRays", s"width * height * finalGatherRays = ${width.toLong * height * fgr} query points is too many")
     val photons = top.get("photons").fold(Defaults.photons)(v => r.int(v, "photons", 0))
+    if (photons > NodeWord.MaxNodes) r.fail("photons", s"must be at most ${NodeWord.MaxNodes} (the node record's index field), got $photons")
     val maxBounces = top.get("maxBounces").fold(Defaults.maxBounces)(v => r.int(v, "maxBounces", 1))
     val h = top.get("h").fold(Defaults.h) {
       case ujson.Num(_) =>

@@ -56,9 +56,9 @@ final case class ModuleCounts(
 }
 
 object ModuleCounts {
-  /** The largest counts the generator takes. Beyond them the memory-port ids outgrow 16 bits (the
-    * TS L2 and SOP L2 tag each request with its requester's index), and the design is far past
-    * what elaborates in this machine's memory (docs/mapm.md "Limits"). */
+  /** The largest counts the generator takes. The memory-port ids grow with them (the TS L2 and
+    * SOP L2 tag each request with its requester's index) and still fit their 16 bits here
+    * (LimitsSpec checks it); 100,000 TSMs would not. */
   val MaxTsm = 1024
   val MaxSom = 1024
   val MaxSoaPerSom = 16

@@ -97,6 +97,9 @@ object Harness {
                               faultAt: Long = 0) {
     MapmError.check(simThreads >= 1 && simThreads <= 64, s"--sim-threads must be 1..64, got $simThreads")
     MapmError.check(latency >= 0, s"--latency must be at least 0, got $latency")
+    MapmError.check(seed >= 0, s"--seed must be 0..${Long.MaxValue}, got $seed")
+    MapmError.check(tailLatency >= 0, s"--tail-latency must be at least 0, got $tailLatency")
+    MapmError.check(waveStart >= 0 && waveEnd >= waveStart, s"--wave-start and --wave-end must be 0 <= start <= end, got $waveStart and $waveEnd")
     MapmError.check(latencyMax == 0 || latencyMax >= latency, s"--latency-max must be at least --latency, got $latencyMax")
     MapmError.check(bandwidth > 0, s"--bandwidth must be positive, got $bandwidth")
     MapmError.check(maxCycles >= 0, s"--max-cycles must be at least 0, got $maxCycles")

@@ -89,27 +89,6 @@ class Mapm(val p: MapmParams) extends Module {
 }
 
 object Mapm {
-  /** `p` when every memory port of its design can be sized, else a one-line [[mapm.MapmError]]:
-    * the L2s tag each request with its requester's index, so the TSM count and the SOA count
-    * (SOMs x SOAs per SOM) set id widths that must fit the 16-bit port id. Call it before
-    * elaborating parameters a user chose; the message names the counts and their largest values
-    * at this configuration. */
-  def check(p: MapmParams): MapmParams = {
-    def fits(q: MapmParams): Boolean =
-      try { memParams(q); true } catch { case _: IllegalArgumentException => false }
-    if (!fits(p)) {
-      val c = p.counts
-      def largest(f: Int => MapmParams, hi: Int): Int = // the largest n in 1..hi with f(n) fitting (monotone)
-        Iterator.iterate(1)(_ * 2).takeWhile(_ <= hi).takeWhile(n => fits(f(n))).toSeq.lastOption.getOrElse(0)
-      val maxTsm = largest(n => p.copy(counts = c.copy(tsm = n)), ModuleCounts.MaxTsm)
-      val maxSom = largest(n => p.copy(counts = c.copy(som = n)), ModuleCounts.MaxSom)
-      mapm.MapmError.fail(s"configuration ${c.label}: too many requesters for the 16-bit memory-port id: --tsm must be " +
-        s"1..$maxTsm and --som 1..$maxSom at ${c.soaPerSom} SOAs per SOM (powers of two checked)")
-    }
-    p
-  }
-
-
   /** The shape of the top's memory port: the outer arbiter's shared port over the TS L2, the SOQ
     * cache and the SOP L2. */
   def memParams(p: MapmParams): MemPortParams =

@@ -116,4 +116,38 @@ class MemArbiterSpec extends AnyFunSuite with Sim {
       }
     }
   }
+
+  test("a response whose id names no requester, or a last beat with nothing in flight, is flagged and the beat dropped") {
+    simulate(new MemArbiter(Seq.fill(3)(up), 4)) { c =>
+      c.io.up.foreach { u => u.req.valid.poke(false.B); u.resp.ready.poke(false.B) }
+      c.io.down.req.ready.poke(true.B)
+      c.io.down.resp.valid.poke(false.B)
+      MemSim.reset(c.clock, c.reset)
+      // Source 3 of a 3-port arbiter: no requester. Taken at once (never stalls the port), seen by none.
+      c.io.down.resp.valid.poke(true.B)
+      c.io.down.resp.bits.id.poke((3 << up.idBits).U)
+      c.io.down.resp.bits.last.poke(false.B)
+      assert(c.io.down.resp.ready.peek().litToBoolean && c.io.up.forall(!_.resp.valid.peek().litToBoolean))
+      assert(!c.io.protocolError.peek().litToBoolean)
+      c.clock.step()
+      c.io.down.resp.valid.poke(false.B)
+      assert(c.io.protocolError.peek().litToBoolean, "sticky from the cycle after")
+      c.clock.step(3)
+      assert(c.io.protocolError.peek().litToBoolean)
+    }
+    simulate(new MemArbiter(Seq.fill(2)(up), 4)) { c =>
+      c.io.up.foreach { u => u.req.valid.poke(false.B); u.resp.ready.poke(true.B) }
+      c.io.down.req.ready.poke(true.B)
+      c.io.down.resp.valid.poke(false.B)
+      MemSim.reset(c.clock, c.reset)
+      c.clock.step()
+      assert(!c.io.protocolError.peek().litToBoolean)
+      c.io.down.resp.valid.poke(true.B) // a last beat for port 1, with no request in flight
+      c.io.down.resp.bits.id.poke((1 << up.idBits).U)
+      c.io.down.resp.bits.last.poke(true.B)
+      c.clock.step()
+      c.io.down.resp.valid.poke(false.B)
+      assert(c.io.protocolError.peek().litToBoolean)
+    }
+  }
 }

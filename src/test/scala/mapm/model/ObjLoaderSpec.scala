@@ -136,4 +136,15 @@ class ObjLoaderSpec extends AnyFunSuite {
       assert(msg.contains(what), s"'$msg' should say '$what'")
     }
   }
+
+  test("a material name the OBJ library reads differently than written is one clear error (found by mapm fuzz)") {
+    // A continued newmtl line joins the next statement into the checker's name; a name glued to the
+    // keyword (newmtl\u1396a) is a newmtl statement to the library but not to the checker. Both
+    // once escaped as a NoSuchElementException.
+    val obj = "mtllib m.mtl\n" + tri + "usemtl a\nf 1 2 3\n"
+    for (mtl <- Seq("newmtl a \\\nKd 0.5 0.5 0.5\n", "newmtl\u1396a\nKd 0.5 0.5 0.5\n")) {
+      val (objFile, msg) = error(obj, Some(mtl))
+      assert(!msg.contains('\n') && msg.startsWith(java.nio.file.Path.of(objFile).resolveSibling("m.mtl").toString + ":"), msg)
+    }
+  }
 }

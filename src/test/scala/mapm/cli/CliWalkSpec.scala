@@ -1,0 +1,101 @@
+package mapm.cli
+
+import java.io.ByteArrayOutputStream
+import java.nio.file.{Files, Paths}
+import java.util.concurrent.{Executors, TimeUnit, TimeoutException}
+
+import mapm.MapmError
+import org.scalatest.funsuite.AnyFunSuite
+
+/** Walks every option of every command (read from the command's own `--help`) with bad values of
+  * its type: not a number, negative, past the type's range, NaN, an unknown format, arithmetic or
+  * layout, a path under a regular file (which can be neither read nor created). Every run must end
+  * quickly in a one-line [[MapmError]] that names the option (so `mapm` prints it and exits 1):
+  * never another exception (which `mapm` reports as an internal error), never a silent success.
+  * The other options hold small valid values, so a bad value that slips through is noticed (the
+  * run succeeds or times out) rather than starting a long job. */
+class CliWalkSpec extends AnyFunSuite {
+  private val work = Paths.get("target/cli-walk")
+  private val small = "test-scenes/cornell-box/scene-small.json"
+  private lazy val tsaIn = {
+    Files.createDirectories(work)
+    Files.write(work.resolve("tsa.csv"), "p,h,s\n0x3c00,0x3800,0x3e00\n".getBytes("UTF-8"))
+  }
+  private lazy val soaIn = Some(mapm.testutil.SharedDir.file("vectors/fp16_g3_public.csv")).filter(Files.isRegularFile(_))
+
+  /** Valid options that keep each command's run small: what the walk keeps unless it varies it. */
+  private def base(cmd: String): Seq[(String, String)] = cmd match {
+    case "render" => Seq("scene" -> small, "tsm" -> "1", "som" -> "1", "soa" -> "1", "out" -> s"$work/out")
+    case "sweep" => Seq("scene" -> small, "configs" -> "1/1/1", "out" -> s"$work/out")
+    case "stress" => Seq("configs" -> "1/1/1", "seeds" -> "1", "out" -> s"$work/out")
+    case "model" | "bench-model" => Seq("scene" -> small, "out" -> s"$work/out", "threads" -> "1")
+    case "kdtree" => Seq("photons" -> "test-scenes/table-3-1/photons.csv")
+    case "bench-search" => Seq("photons" -> "500", "queries" -> "50", "repeat" -> "1", "warmup" -> "0", "threads" -> "1")
+    case "emit" => Seq("tsm" -> "1", "som" -> "1", "soa" -> "1", "format" -> "4,3", "out" -> s"$work/emit")
+    case "emit-tsa" => Seq("format" -> "4,3", "out" -> s"$work/emit-tsa")
+    case "emit-soa" => Seq("format" -> "4,4", "out" -> s"$work/emit-soa")
+    case "tsa-vectors" => Seq("in" -> tsaIn.toString, "format" -> "fp16")
+    case "soa-vectors" => Seq("in" -> soaIn.map(_.toString).getOrElse("/nonexistent.csv"), "format" -> "fp16")
+    case "soa-bench" => Seq("ops" -> "100", "format" -> "fp16")
+    case "cost" => Seq("unit" -> "tsa", "format" -> "5,4", "scene" -> small, "ops" -> "200", "out" -> s"$work/cost")
+    case "fuzz" => Seq("inputs" -> "5", "out" -> s"$work/out")
+    case "format" => Seq("values" -> "1.5", "format" -> "fp16")
+    case _ => Seq.empty
+  }
+
+  /** Each option of `cmd` and its value type, from the help text (`--name <type>`). */
+  private def options(cmd: Command): Seq[(String, String)] = {
+    val out = new ByteArrayOutputStream()
+    Console.withOut(out)(cmd.run(Seq("--help")))
+    """(?m)^\s+(?:-\w )?--([a-z][a-z0-9-]*) <(\w+)>""".r.findAllMatchIn(out.toString("UTF-8")).map(m => m.group(1) -> m.group(2)).toSeq
+  }
+
+  private val unwritable = "/proc/version/x" // under a regular file: cannot exist, cannot be made
+
+  private def badValues(tpe: String): Seq[String] = tpe match {
+    case "int" => Seq("abc", "-7", "99999999999")
+    case "long" => Seq("abc", "-7", "99999999999999999999")
+    case "double" => Seq("abc", "-7", "NaN")
+    case "format" => Seq("fp33", "e99m99")
+    case "arith" => Seq("quantum")
+    case "layout" => Seq("tight")
+    case _ => Seq(unwritable)
+  }
+
+  private val pool = Executors.newSingleThreadExecutor { (r: Runnable) => val t = new Thread(null, r, "cli-walk", 16L << 20); t.setDaemon(true); t }
+
+  /** Runs `cmd` with `args`: Right(the error message) for a MapmError, Left(what else happened). */
+  private def attempt(cmd: Command, args: Seq[String]): Either[String, String] = {
+    val task = pool.submit[Either[String, String]] { () =>
+      val sink = new ByteArrayOutputStream()
+      try Console.withOut(sink)(Console.withErr(sink)(cmd.run(args))) match {
+        case 0 => Left("succeeded")
+        case rc => Left(s"returned $rc without an error message")
+      } catch {
+        case e: MapmError => Right(e.getMessage)
+        case e: Throwable => Left(s"internal error: ${e.getClass.getSimpleName}: ${e.getMessage}")
+      }
+    }
+    try task.get(120, TimeUnit.SECONDS)
+    catch { case _: TimeoutException => task.cancel(true); Left("no error within 120 s (the value was not checked before the work)") }
+  }
+
+  for (cmd <- Main.commands) test(s"${cmd.name}: every option rejects bad values with a one-line error naming it") {
+    if (cmd.name == "soa-vectors") assume(soaIn.isDefined, "../shared/vectors is absent")
+    val opts = options(cmd)
+    assert(opts.nonEmpty, s"${cmd.name} --help lists no options")
+    val problems = for {
+      (name, tpe) <- opts
+      v <- badValues(tpe)
+      args = (base(cmd.name).filter(_._1 != name) :+ (name -> v)).flatMap { case (k, x) => Seq(s"--$k", x) }
+      problem <- attempt(cmd, args) match {
+        case Left(what) => Some(s"--$name $v: $what")
+        case Right(msg) if msg.contains('\n') => Some(s"--$name $v: a message of more than one line: $msg")
+        case Right(msg) if msg.contains("internal error") => Some(s"--$name $v: $msg")
+        case Right(msg) if !msg.contains(name) && !msg.contains(v) => Some(s"--$name $v: the message names neither the option nor the value: $msg")
+        case _ => None
+      }
+    } yield problem
+    assert(problems.isEmpty, problems.mkString("\n"))
+  }
+}
