@@ -54,8 +54,9 @@ object Harness {
     val configHeader = new String(Files.readAllBytes(configFile), UTF_8)
     MapmError.check(configHeader.contains(s"#define MAPM_TOP_NAME \"$top\""), s"$configFile is not the header of $top")
     val formats = CHeader.formats
+    val vlt = noInlineConfig(svTexts.mkString("\n"))
     val hash = Verilator.hash((svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
-      sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+
+      sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+ vlt :+
       s"trace=$trace threads=$threads"): _*)
     val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}-$hash")
     val exe = dir.resolve("harness")
@@ -64,7 +65,7 @@ object Harness {
     Files.write(dir.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
     val fileList = dir.resolve("files.f")
     val config = dir.resolve("no-inline.vlt")
-    Files.write(config, noInlineConfig(svTexts.mkString("\n")).getBytes(UTF_8))
+    Files.write(config, vlt.getBytes(UTF_8))
     Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
     log(s"verilating $top into $dir (cached for later runs) ...")
     val t0 = System.nanoTime()
@@ -76,11 +77,11 @@ object Harness {
   }
 
   /** Modules Verilator must keep as their own classes rather than inline: the big replicated
-    * units (SOA, TSA). Inlined, 32 SOAs make 130 MB of C++ that take 9 minutes to compile and
-    * simulate at half the speed of one shared class (measured on 32 fp32 SOAs: 3.9 k against
-    * 7.8 k cycles per second, 1 minute to build). */
+    * units (SOA, TSA, and their conventional counterparts ConvSOA, ConvTSA). Inlined, 32 SOAs make
+    * 130 MB of C++ that take 9 minutes to compile and simulate at half the speed of one shared class
+    * (measured on 32 fp32 SOAs: 3.9 k against 7.8 k cycles per second, 1 minute to build). */
   def noInlineConfig(sv: String): String = {
-    val names = """(?m)^module\s+((?:SOA|TSA)_\w+)""".r.findAllMatchIn(sv).map(_.group(1)).toSeq.distinct
+    val names = """(?m)^module\s+((?:Conv)?(?:SOA|TSA)_\w+)""".r.findAllMatchIn(sv).map(_.group(1)).toSeq.distinct
     ("`verilator_config" +: names.map(n => s"""no_inline -module "$n"""")).mkString("", "\n", "\n")
   }
 
