@@ -66,7 +66,8 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
     val down = new MemPort(cfg.down)
     val counters = Output(new CacheCounters(cfg.counterBits))
     /** Sticky: a request was not aligned to the word or asked for more than one beat (the cache
-      * served the word holding its address). */
+      * served the word holding its address), or a refill beat came that no miss waits for
+      * ([[MissTable]]: an unknown id, a duplicate response, `last` on the wrong beat; dropped). */
     val protocolError = Output(Bool())
   })
 
