@@ -28,6 +28,12 @@ mapm_ensure_verilator() {
   command -v ccache >/dev/null 2>&1 || ( mapm_apt_install ccache ) || echo "mapm setup: going on without ccache" >&2
 }
 
+# valgrind, for the instruction counts of `mapm bench-sim`; prints valgrind=PATH.
+mapm_ensure_valgrind() {
+  command -v valgrind >/dev/null 2>&1 || mapm_apt_install valgrind
+  echo "valgrind=$(command -v valgrind)"
+}
+
 # Prints the path of the sbt launcher jar, fetching it through Maven the first time.
 mapm_sbt_launcher() {
   local jar="$MAPM_CACHE/sbt-launch-$MAPM_SBT_LAUNCH_VERSION.jar"

@@ -29,6 +29,9 @@ inline bool writeStats(const std::string& path, const Options& opt, const RunSum
   Json j;
   j.begin();
   j.str("top", MAPM_TOP_NAME);
+  // timing: the SOAs were their timing model; colours and cond (soPassingCond) came from the model.
+  j.str("fidelity", MAPM_FIDELITY_TIMING ? "timing" : "full");
+  j.str("colourSource", MAPM_FIDELITY_TIMING ? "model" : "rtl");
   j.begin("config");
   j.integer("tsm", MAPM_TSM);
   j.integer("som", MAPM_SOM);

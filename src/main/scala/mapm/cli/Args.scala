@@ -59,6 +59,13 @@ object Args {
       catch { case e: MapmError => Left(e.getMessage) }
   }
 
+  implicit object FidelityReader extends TokensReader.Simple[mapm.params.Fidelity] {
+    def shortName = "fidelity"
+    def read(strs: Seq[String]): Either[String, mapm.params.Fidelity] =
+      try Right(mapm.params.Fidelity.parse(strs.last))
+      catch { case e: MapmError => Left(e.getMessage) }
+  }
+
   implicit object SlotLayoutReader extends TokensReader.Simple[SlotLayout] {
     def shortName = "layout"
     def read(strs: Seq[String]): Either[String, SlotLayout] =

@@ -7,9 +7,9 @@ import mapm.MapmError
 import mapm.format.SlotLayout
 import mapm.model.{Arith, FloatFormat}
 import mapm.sim.Emit
-import mapm.params.MapmParams
+import mapm.params.{Fidelity, MapmParams}
 import mapm.top.Mapm
-import Args.{ArithReader, FloatFormatReader, SlotLayoutReader}
+import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}
 
 /** `mapm emit`: writes the SystemVerilog of a whole MAPM ([[Mapm]]) of any size and format
   * through CIRCT, and `mapm_config.h` with the same parameters for a C++ harness. Prints the
@@ -27,11 +27,12 @@ object EmitCommand extends Command {
       @arg(doc = "memory records: packed (format slots of 2, 4 or 8 bytes, the smallest that fits) or wide (at least 4)") layout: SlotLayout = SlotLayout.Packed,
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
       @arg(doc = "arithmetic of the SOAs and TSAs: online (the dissertation's) or conventional (correctly rounded floating point)") arith: Arith = Arith.Online,
+      @arg(doc = "full: the SOAs' arithmetic; timing: each SOA a latency-exact delay line (cycle-exact, no colours; docs/harness.md)") fidelity: Fidelity = Fidelity.Full,
       @arg(doc = "entries of each TSM's Register-queue bank (default 128)") rqDepth: Option[Int] = None,
       @arg(doc = "reservation-station entries per SOM (default 8 per SOA)") rsEntries: Option[Int] = None,
       @arg(doc = "output directory") out: String = "out/mapm"
   ): Int = {
-    val p = MapmParams.of(tsm, som, soa, format, g, rqDepth, rsEntries, layout, arith)
+    val p = MapmParams.of(tsm, som, soa, format, g, rqDepth, rsEntries, layout, arith, fidelity)
     val top = s"Mapm_${p.name}"
     val dir = Paths.get(out)
     val t0 = System.nanoTime()
@@ -43,7 +44,7 @@ object EmitCommand extends Command {
       } catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write into $out: ${e.getMessage}") }
     val secs = (System.nanoTime() - t0) / 1e9
     val sv = new String(Files.readAllBytes(file), UTF_8)
-    println(f"wrote $file and ${dir.resolve("mapm_config.h")} ($top: ${p.counts.label}, format ${p.numbers.format} in ${p.slotBytes}-byte slots, $arith arithmetic, g = $g) in $secs%.1f s")
+    println(f"wrote $file and ${dir.resolve("mapm_config.h")} ($top: ${p.counts.label}, format ${p.numbers.format} in ${p.slotBytes}-byte slots, $arith arithmetic, g = $g${if (fidelity == Fidelity.Timing) ", SOAs as timing models" else ""}) in $secs%.1f s")
     println(s"  ${sv.linesIterator.size} lines of SystemVerilog, ${SvStats.registerBits(sv, Some(top))} flip-flops " +
       s"(memory arrays not counted), ${p.counts.som * p.counts.soaPerSom} result ports")
     val units = for (unit <- Seq("TSA", "SOA"); m <- SvStats.modules(sv).find(m => m.startsWith(unit + "_") || m.startsWith("Conv" + unit + "_")))

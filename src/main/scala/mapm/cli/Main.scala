@@ -29,6 +29,7 @@ object Main {
     KdtreeCommand,
     BenchSearchCommand,
     BenchModelCommand,
+    BenchSimCommand,
     EmitCommand,
     EmitTsaCommand,
     TsaVectorsCommand,

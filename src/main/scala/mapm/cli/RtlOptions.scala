@@ -6,7 +6,8 @@ import mainargs.{arg, main}
 import mapm.format.SlotLayout
 import mapm.model.{Arith, FloatFormat, Parallel}
 import mapm.sim.Harness
-import Args.{ArithReader, FloatFormatReader, SlotLayoutReader}
+import mapm.params.Fidelity
+import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}
 
 /** The options `render` and `sweep` share ([[RtlRun]]): the scene and its number format, the
   * harness's memory model and limits ([[Harness.RunOptions]]), the output folder and the model's
@@ -18,6 +19,7 @@ final case class RtlOptions(
     @arg(doc = "memory records: packed (format slots of 2, 4 or 8 bytes, the smallest that fits) or wide (at least 4)") layout: SlotLayout = SlotLayout.Packed,
     @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
     @arg(doc = "arithmetic of the SOAs and TSAs: online (the dissertation's) or conventional (correctly rounded floating point)") arith: Arith = Arith.Online,
+    @arg(doc = "full: the SOAs' arithmetic, every colour checked; timing: each SOA a latency-exact delay line, cycle-exact and faster, colours taken from the model (docs/harness.md)") fidelity: Fidelity = Fidelity.Full,
     @arg(doc = "memory latency in cycles") latency: Int = 100,
     @arg(doc = "draw each request's latency from [latency, this] (0: fixed latency)") latencyMax: Int = 0,
     @arg(doc = "probability of a gap in the query stream each cycle") queryGap: Double = 0,
@@ -39,5 +41,6 @@ final case class RtlOptions(
       respGap, simThreads, tailProb, tailLatency)
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
-  def setup(configs: Seq[(Int, Int, Int)]): RtlRun.Setup = RtlRun.setup(scene, format, g, configs, out, threads, layout, arith)
+  def setup(configs: Seq[(Int, Int, Int)], prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): RtlRun.Setup =
+    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, prebuild, log)
 }

@@ -6,7 +6,9 @@ import mapm.MapmError
 import mapm.format.{MemoryImage, SlotLayout}
 import mapm.model._
 import mapm.sim.{ExpectedSo, Harness, MapmRtl}
-import mapm.params.MapmParams
+import mapm.params.{Fidelity, MapmParams}
+import scala.concurrent.{Await, Future}
+import scala.concurrent.duration.Duration
 
 /** The RTL render shared by `render` and `sweep`: scene -> model ([[Frame]]) -> memory image and
   * expected SOs (the model in the hardware's arithmetic) -> emitted Verilog (cached) -> Verilator
@@ -14,7 +16,20 @@ import mapm.params.MapmParams
 object RtlRun {
   /** A frame ready for the hardware: its files in `work` and the model's results. */
   final case class Prepared(name: String, config: SceneConfig, frame: Frame, layout: SlotLayout, image: Path, expected: Path,
-                            model: ExpectedSo.Result, work: Path, times: StageTimes, arith: Arith = Arith.Online)
+                            model: ExpectedSo.Result, work: Path, times: StageTimes, arith: Arith = Arith.Online,
+                            builds: Map[MapmParams, Future[Built]] = Map.empty)
+
+  /** A configuration's harness, emitted and built (with its trace flag and model threads), and the seconds each took. */
+  final case class Built(exe: Path, trace: Boolean, simThreads: Int, emitSeconds: Double, buildSeconds: Double)
+
+  /** Emits and builds `p`'s harness ([[MapmRtl.emit]], [[Harness.build]]). */
+  def build(p: MapmParams, trace: Boolean, simThreads: Int, log: String => Unit): Built = {
+    val t0 = System.nanoTime()
+    val (sv, top) = MapmRtl.emit(p, log)
+    val t1 = System.nanoTime()
+    val exe = Harness.build(sv, top, trace, log, simThreads)
+    Built(exe, trace, simThreads, (t1 - t0) / 1e9, secs(t1))
+  }
 
   /** The configurations to run and the frame they run on, in one number format. */
   final case class Setup(params: Seq[MapmParams], prep: Prepared)
@@ -37,14 +52,19 @@ object RtlRun {
     * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits, arithmetic `arith`
     * and memory records in `layout`, then runs the model side once; files go to
     * `outDir/<scene>-rtl/` (`<scene>-conv-rtl/` for the conventional arithmetic, whose name
-    * carries `-conv` in every output file). */
+    * carries `-conv` in every output file). With `prebuild` (trace, model threads) every
+    * configuration is emitted and built on a thread of its own while the model runs, and
+    * [[runConfig]] takes that build. */
   def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int,
-            layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online): Setup = {
+            layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online, fidelity: Fidelity = Fidelity.Full,
+            prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): Setup = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith) }
+    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith, fidelity = fidelity) }
     checkFits(config, params.headOption.getOrElse(MapmParams.default).indices)
+    import scala.concurrent.ExecutionContext.Implicits.global
+    val builds = prebuild.toSeq.flatMap { case (trace, threads) => params.map(p => p -> Future(build(p, trace, threads, log))) }.toMap
     val frame = Frame.prepare(config, fmt, threads)
     val name = ModelRun.sceneName(Paths.get(scene)) + (if (arith == Arith.Online) "" else "-conv")
     val work = Paths.get(outDir).resolve(s"$name-rtl")
@@ -56,7 +76,7 @@ object RtlRun {
     val expected = work.resolve("expected.bin")
     val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith)
     Setup(params, Prepared(name, config, frame, layout, image, expected, model, work,
-      frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)), arith))
+      frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)), arith, builds))
   }
 
   /** Fails, before any work, when the scene can need more query points or photons than the
@@ -81,12 +101,12 @@ object RtlRun {
     MapmError.check(p.numbers.format == prep.frame.format && p.memory.layout == prep.layout && p.numbers.arith == prep.arith,
       s"${p.name}: the frame was prepared in ${prep.frame.format} ${prep.arith} with the ${prep.layout} layout, the configuration reads ${p.numbers.format} ${p.numbers.arith} in the ${p.memory.layout} one")
     val t0 = System.nanoTime()
-    val (sv, top) = MapmRtl.emit(p, log)
-    val t1 = System.nanoTime()
-    val exe = Harness.build(sv, top, trace = opts.wave.isDefined, log, opts.simThreads)
+    val early = prep.builds.get(p).map(f => Await.result(f, Duration.Inf)).filter(b => b.trace == opts.wave.isDefined && b.simThreads == opts.simThreads)
+    val built = early.getOrElse(build(p, opts.wave.isDefined, opts.simThreads, log))
     val t2 = System.nanoTime()
-    val outcome = Harness.run(exe, prep.image, prep.expected, dir, opts, Some(s"RTL ${p.counts.label}"))
-    val times = Seq("emit" -> (t1 - t0) / 1e9, "verilator build" -> (t2 - t1) / 1e9, "simulation" -> secs(t2))
+    val outcome = Harness.run(built.exe, prep.image, prep.expected, dir, opts, Some(s"RTL ${p.counts.label}"))
+    val times = Seq("emit" -> built.emitSeconds, "verilator build" -> built.buildSeconds) ++
+      (if (early.isDefined) Seq("waiting for the build" -> (t2 - t0) / 1e9) else Seq.empty) :+ ("simulation" -> secs(t2))
     val model = prep.model.frame
     val diff = outcome.frame match {
       case None => Some("the harness wrote no frame")

@@ -39,7 +39,8 @@ object SweepCommand extends Command {
     MapmError.check(list.nonEmpty, "sweep: no configurations given")
     val harness = opts.harness()
     val RtlRun.Setup(params, prep) = opts.setup(list)
-    println(s"sweep of ${params.size} configurations on ${prep.config.file}: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops")
+    println(s"sweep of ${params.size} configurations on ${prep.config.file}: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops" +
+      (if (opts.fidelity == mapm.params.Fidelity.Timing) "; SOAs as timing models (cycle-exact; colours from the model, not checked)" else ""))
     def orNaN(v: Option[Double]): Double = v.getOrElse(Double.NaN)
     val runs = params.map { p =>
       val dir = prep.work.resolve(s"sweep-${p.counts.tsm}-${p.counts.som}-${p.counts.soaPerSom}")
@@ -55,12 +56,12 @@ object SweepCommand extends Command {
     def stat(r: RtlRun.ConfigRun)(field: HarnessStats => Double): String = cell(r.outcome.stats.map(field))
     val speedups = runs.map(r => for (b <- cycles(runs.head); c <- cycles(r) if c > 0) yield b.toDouble / c)
     val header = (Seq("config", "tsm", "som", "soa", "cycles", "so_per_cycle", "ts_ops_per_cycle", "speedup") ++
-      caches.map(c => s"hit_rate_$c") ++ Seq("gb_per_s", "sim_wall_s", "sim_cycles_per_s", "result")).mkString(",")
+      caches.map(c => s"hit_rate_$c") ++ Seq("gb_per_s", "sim_wall_s", "sim_cycles_per_s", "fidelity", "result")).mkString(",")
     val rows = runs.zip(speedups).map { case (r, sp) =>
       (Seq(r.p.counts.label, r.p.counts.tsm.toString, r.p.counts.som.toString, r.p.counts.soaPerSom.toString,
         cycles(r).map(_.toString).getOrElse(""), stat(r)(_.soPerCycle), cell(r.outcome.stats.flatMap(_.tsOpsPerCycle)), cell(sp)) ++
         caches.map(c => cell(r.outcome.stats.flatMap(_.caches.get(c)).map(_.hitRate))) ++
-        Seq(stat(r)(_.gbPerSecond), stat(r)(_.wallSeconds), stat(r)(_.simulatedCyclesPerSecond), if (r.passed) "PASS" else "FAIL")).mkString(",")
+        Seq(stat(r)(_.gbPerSecond), stat(r)(_.wallSeconds), stat(r)(_.simulatedCyclesPerSecond), r.p.sim.fidelity.name, if (r.passed) "PASS" else "FAIL")).mkString(",")
     }
     val outDir = Paths.get(opts.out)
     Files.createDirectories(outDir)

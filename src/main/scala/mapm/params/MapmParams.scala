@@ -118,6 +118,23 @@ final case class IndexParams(
   require(nodeBits >= 1 && nodeBits <= 26, s"node index width must be 1..26 (the 8-byte node record's right-child field), got $nodeBits")
 }
 
+/** What the emitted SOAs compute: `full` (the arithmetic, colours and the distance check) or
+  * `timing` (a latency-exact delay line carrying valid and tag alone: cycle for cycle the same
+  * machine, colours and cond left to the harness's expected SOs; docs/harness.md). */
+sealed abstract class Fidelity(val name: String)
+object Fidelity {
+  case object Full extends Fidelity("full")
+  case object Timing extends Fidelity("timing")
+  val all: Seq[Fidelity] = Seq(Full, Timing)
+  def parse(s: String): Fidelity = all.find(_.name == s).getOrElse(
+    mapm.MapmError.fail(s"fidelity must be one of ${all.map(_.name).mkString(", ")}, got '$s'"))
+}
+
+/** How the emitted design is meant to be simulated. */
+final case class SimParams(
+    fidelity: Fidelity = Fidelity.Full // full RTL, or SOAs replaced by their timing model
+)
+
 /** Everything that sizes one MAPM instance. Every field has a default; presets below. */
 final case class MapmParams(
     counts: ModuleCounts = ModuleCounts(),   // TSM / SOM / SOA counts
@@ -125,7 +142,8 @@ final case class MapmParams(
     queues: QueueParams = QueueParams(),     // Register queue and reservation stations
     caches: CachesParams = CachesParams(),   // cache geometry (Table 4.2)
     memory: MemoryParams = MemoryParams(),   // memory port
-    indices: IndexParams = IndexParams()     // index widths
+    indices: IndexParams = IndexParams(),    // index widths
+    sim: SimParams = SimParams()             // full RTL or the SOAs' timing model
 ) {
   /** Bytes of a format slot in the memory records: the format's in the configured layout. */
   def slotBytes: Int = memory.layout.slotBytes(numbers.format)
@@ -161,13 +179,15 @@ final case class MapmParams(
 
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
     * wide layout gives the format larger slots than the packed one, the FPU logic per stage
-    * (e.g. `_fw1p5`) where it is not the default, and `_conv` for the conventional arithmetic. */
+    * (e.g. `_fw1p5`) where it is not the default, `_conv` for the conventional arithmetic and
+    * `_timing` for the SOAs' timing model. */
   def name: String = {
     val wide = if (slotBytes != SlotLayout.Packed.slotBytes(numbers.format)) "_wide" else ""
     val w = numbers.fpuStageWeight
     val depth = if (w != NumberParams.DefaultFpuStageWeight) "_fw" + f"$w%.2f".stripSuffix("0").stripSuffix("0").stripSuffix(".").replace('.', 'p') else ""
     val conv = if (numbers.arith == Arith.Conventional) "_conv" else ""
-    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv"
+    val timing = if (sim.fidelity == Fidelity.Timing) "_timing" else ""
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing"
   }
 }
 
@@ -197,7 +217,7 @@ object MapmParams {
     * it, not an exception. */
   def of(tsm: Int, som: Int, soa: Int, format: FloatFormat, g: Int,
          registerQueueDepth: Option[Int] = None, rsEntries: Option[Int] = None, layout: SlotLayout = SlotLayout.Packed,
-         arith: Arith = Arith.Online): MapmParams =
+         arith: Arith = Arith.Online, fidelity: Fidelity = Fidelity.Full): MapmParams =
     try {
       val base = table48(tsm, som, soa)
       val r = new Records(layout.slotBytes(format))
@@ -205,6 +225,7 @@ object MapmParams {
       base.copy(
         numbers = NumberParams(format, g, arith = arith),
         memory = base.memory.copy(layout = layout),
+        sim = SimParams(fidelity),
         caches = base.caches.copy(tsL1 = fit(base.caches.tsL1, r.node.bytes), soq = fit(base.caches.soq, r.queryHwBytes),
           sopL1 = fit(base.caches.sopL1, r.photon.bytes)),
         queues = base.queues.copy(registerQueueDepth = registerQueueDepth.getOrElse(base.queues.registerQueueDepth),

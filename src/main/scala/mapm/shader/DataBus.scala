@@ -39,27 +39,23 @@ class DataBus(p: MapmParams) extends Module {
     val need = Som.needs(g.bits, a)
     VecInit(io.free.map(f => g.valid && need.zip(f).map { case (n, fr) => n <= fr }.reduce(_ && _))).asUInt
   })
-  /** (start + k) mod n for a constant k < n; for a power-of-two n the low bits of the sum (no
-    * compare, no mixed-width select for lint to flag). */
-  private def rot(start: UInt, k: Int, n: Int): UInt =
-    if (n == 1) 0.U
-    else if (isPow2(n)) (start +% k.U(start.getWidth.W))(Pick.bits(n) - 1, 0)
-    else { val x = start +& k.U; Mux(x >= n.U, x - n.U, x)(Pick.bits(n) - 1, 0) }
-
-  // Claims in rotated TSM order; claim(k) is the SOM (one-hot) taken by the k-th group in that order.
+  // Claims in rotated TSM order; claim(k) is the SOM (one-hot) taken by the k-th group in that order,
+  // the group of TSM (startT + k) mod t.
+  private val fitsInOrder = Pick.rotate(fits, startT)
+  private val afterS = Pick.atOrAfter(startS, s)
   private var avail = ((BigInt(1) << s) - 1).U(s.W)
-  private val claims = (0 until t).map { k =>
-    val oh = Pick.roundRobinOH(fits(rot(startT, k, t)) & avail, startS)
+  private val claims = fitsInOrder.zipWithIndex.map { case (f, k) =>
+    val oh = Pick.roundRobinOH(f & avail, afterS)
     if (k < t - 1) avail = avail & ~oh
     oh
   }
-  private val claimOf = VecInit(claims)
   // Back to TSM order: group i is the k-th with k = (i - startT) mod t.
-  private val grant = (0 until t).map(i => if (t == 1) claimOf(0) else claimOf(rot(t.U - startT, i, t)))
+  private val grant = Pick.rotate(claims, startT, back = true)
   for (i <- 0 until t) io.in(i).ready := grant(i).orR
+  private val flat = io.in.map(_.bits.asUInt) // each group's bits once, shared by every SOM's select
   for (j <- 0 until s) {
     val from = grant.map(_(j))
     io.out(j).valid := from.reduce(_ || _)
-    io.out(j).bits := Mux1H(from, io.in.map(_.bits))
+    io.out(j).bits := Mux1H(from, flat).asTypeOf(new SoGroup(p))
   }
 }

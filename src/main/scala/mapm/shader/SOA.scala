@@ -35,6 +35,20 @@ class SoaResult(format: FloatFormat, tagWidth: Int) extends Bundle {
   val tag = UInt(tagWidth.W)
 }
 
+/** The ports of an SOA and of its timing model [[SoaTiming]]. */
+class SoaIO(format: FloatFormat, tagWidth: Int) extends Bundle {
+  val in = Flipped(Valid(new SoaRequest(format, tagWidth)))
+  val out = Valid(new SoaResult(format, tagWidth))
+}
+
+/** What a SOM lane instantiates: the [[SOA]], or its timing model [[SoaTiming]]. Both take one
+  * operation per cycle and give its result [[latency]] cycles later, never stalling. */
+abstract class ShaderUnit extends Module {
+  val io: SoaIO
+  /** Cycles from an operation on `in` to its result on `out`. */
+  val latency: Int
+}
+
 /** The shader-operation accelerator (dissertation 3.6): a colour chain (colour_c = ((kernel ·
   * BRDF) / h) · power_c · contribution_c, c = r, g, b) beside the conventional floating-point
   * distance check [[CondCheck]] (|q − p|² < h², rounded as [[mapm.model.CondModel]]), both fed by
@@ -58,17 +72,13 @@ class SoaResult(format: FloatFormat, tagWidth: Int) extends Bundle {
   * `out.valid` follows `in.valid` and results leave in input order.
   */
 class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
-          val condDepth: Option[FpuDepth] = None, val arith: Arith = Arith.Online) extends Module {
+          val condDepth: Option[FpuDepth] = None, val arith: Arith = Arith.Online) extends ShaderUnit {
   private val depth = condDepth.getOrElse(FpuDepth.of(format))
   override def desiredName: String = SOA.name(format, g, condDepth, arith)
 
-  /** Cycles from an operation on `in` to its result on `out`. */
   val latency: Int = SOA.latency(format, g, depth, arith)
 
-  val io = IO(new Bundle {
-    val in = Flipped(Valid(new SoaRequest(format, tagWidth)))
-    val out = Valid(new SoaResult(format, tagWidth))
-  })
+  val io = IO(new SoaIO(format, tagWidth))
   private val req = io.in.bits
 
   val chain: ColourChain = Module(arith match {

@@ -1,6 +1,7 @@
 package mapm.shader
 
 import chisel3._
+import chisel3.experimental.hierarchy.{Definition, Instance}
 import chisel3.util._
 import mapm.memory.{CacheConfig, MemArbiter, MemPort, ReadOnlyCache}
 import mapm.params.{MapmConfig, MapmParams, SoGroup, SoResult}
@@ -45,7 +46,7 @@ class SoBlock(p: MapmParams) extends Module {
 
   val bus = Module(new DataBus(p))
   bus.io.in <> io.in
-  val soms = Seq.fill(s)(Module(new Som(p)))
+  val soms: Seq[Instance[Som]] = { val d = Definition(new Som(p)); Seq.fill(s)(Instance(d)) } // elaborated once
   val arb = Module(new MemArbiter(SomLane.l1Config(p).down, s * a, maxOutstanding = 4 * s * a))
   val l2 = Module(new ReadOnlyCache(l2Config))
   l2.io.up <> arb.io.down

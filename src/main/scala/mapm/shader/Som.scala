@@ -1,6 +1,7 @@
 package mapm.shader
 
 import chisel3._
+import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, public}
 import chisel3.util._
 import mapm.memory.{CacheCounters, MemPort}
 import mapm.params.{MapmParams, SoGroup, SoResult}
@@ -15,12 +16,14 @@ import mapm.params.{MapmParams, SoGroup, SoResult}
   *
   * Latency: that of a lane. Throughput: one group in, and one SO into each SOA, per cycle.
   */
+@instantiable
 class Som(p: MapmParams) extends Module {
   private val a = p.counts.soaPerSom
-  val lanes: Seq[SomLane] = Seq.fill(a)(Module(new SomLane(p)))
+  /** One lane elaborated once, instantiated `a` times. */
+  val lanes: Seq[Instance[SomLane]] = { val d = Definition(new SomLane(p)); Seq.fill(a)(Instance(d)) }
   override def desiredName = s"Som_${p.numbers.format.name}_g${p.numbers.guardDigits}_a${a}_r${p.rsPerSoa}"
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val h = Input(UInt(p.numbers.format.width.W))
     val photonBase = Input(UInt(p.memory.addressBits.W))
     val in = Input(Valid(new SoGroup(p)))

@@ -1,10 +1,11 @@
 package mapm.shader
 
 import chisel3._
+import chisel3.experimental.hierarchy.{instantiable, public}
 import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.params.{MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
+import mapm.params.{Fidelity, MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
 import mapm.util.Pick
 
 /** One shader operation waiting in a reservation station: its query and the photon's node index. */
@@ -28,6 +29,7 @@ class SoOp(p: MapmParams) extends Bundle {
   * Latency: insert, one cycle to the fetch request, the SOP L1 (3 cycles on a hit), then the SOA
   * ([[SOA.latency]]). Throughput: one SO per cycle.
   */
+@instantiable
 class SomLane(p: MapmParams) extends Module {
   private val fmt = p.numbers.format
   private val w = fmt.width
@@ -36,7 +38,7 @@ class SomLane(p: MapmParams) extends Module {
   val l1Config: CacheConfig = SomLane.l1Config(p)
   override def desiredName = s"SomLane_${fmt.name}_g${p.numbers.guardDigits}_r$n"
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val h = Input(UInt(w.W))
     val photonBase = Input(UInt(p.memory.addressBits.W))
     val insert = Input(Vec(SoGroup.Size, Valid(new SoOp(p))))
@@ -53,7 +55,13 @@ class SomLane(p: MapmParams) extends Module {
   val l1 = Module(new ReadOnlyCache(l1Config))
   io.mem <> l1.io.down
   io.l1 := l1.io.counters
-  val soa = Module(new SOA(fmt, p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight)), p.numbers.arith))
+  val soa: ShaderUnit = {
+    val (g, tags, depth) = (p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight)))
+    p.sim.fidelity match {
+      case Fidelity.Full => Module(new SOA(fmt, g, tags, depth, p.numbers.arith))
+      case Fidelity.Timing => Module(new SoaTiming(fmt, g, tags, depth, p.numbers.arith))
+    }
+  }
 
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
   val sent = RegInit(VecInit(Seq.fill(n)(false.B)))

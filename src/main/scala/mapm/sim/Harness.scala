@@ -43,8 +43,10 @@ object Harness {
   /** Builds (or finds in the cache) the harness for the emitted design in `svDir` whose top module
     * is `top`; `svDir` holds its `mapm_config.h` ([[mapm.sim.HarnessHeader]], as
     * [[MapmRtl.emit]] and `mapm emit` write it). `trace` builds the FST-waveform variant,
-    * `threads` > 1 a multithreaded model (Verilator `--threads`). Returns the executable. */
-  def build(svDir: Path, top: String, trace: Boolean = false, log: String => Unit = _ => (), threads: Int = 1): Path = {
+    * `threads` > 1 a multithreaded model (Verilator `--threads`). `fresh` builds from scratch
+    * without ccache, replacing any cached build (for measuring the build). Returns the executable. */
+  def build(svDir: Path, top: String, trace: Boolean = false, log: String => Unit = _ => (), threads: Int = 1,
+            fresh: Boolean = false): Path = {
     MapmError.check(threads >= 1 && threads <= 64, s"simulation threads must be 1..64, got $threads")
     val svs = svFiles(svDir)
     val svTexts = svs.map(f => new String(Files.readAllBytes(f), UTF_8)) // read once: tens of MB at 16/16/2
@@ -57,10 +59,11 @@ object Harness {
     val vlt = noInlineConfig(svTexts.mkString("\n"))
     val hash = Verilator.hash((svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
       sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+ vlt :+
-      s"trace=$trace threads=$threads"): _*)
+      s"trace=$trace threads=$threads" :+ Verilator.optFlags.mkString(" ")): _*)
     val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}-$hash")
     val exe = dir.resolve("harness")
-    if (Files.isExecutable(exe)) return exe
+    if (fresh) deleteTree(dir)
+    else if (Files.isExecutable(exe)) return exe
     Files.createDirectories(dir)
     Files.write(dir.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
     val fileList = dir.resolve("files.f")
@@ -71,17 +74,23 @@ object Harness {
     val t0 = System.nanoTime()
     val flags = Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${dir.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
       (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
-    Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, dir, "harness", flags)
+    Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, dir, "harness", flags, ccache = !fresh)
     log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     exe
   }
 
-  /** Modules Verilator must keep as their own classes rather than inline: the big replicated
-    * units (SOA, TSA, and their conventional counterparts ConvSOA, ConvTSA). Inlined, 32 SOAs make
-    * 130 MB of C++ that take 9 minutes to compile and simulate at half the speed of one shared class
-    * (measured on 32 fp32 SOAs: 3.9 k against 7.8 k cycles per second, 1 minute to build). */
+  private def deleteTree(dir: Path): Unit = if (Files.exists(dir))
+    Files.walk(dir).iterator.asScala.toSeq.reverse.foreach(Files.delete)
+
+  /** Modules Verilator must keep as their own classes rather than inline: the replicated units,
+    * SOA and TSA (and their conventional counterparts ConvSOA, ConvTSA), and the TSM and SOM that
+    * hold them with their L1 caches and queues. Inlined, the 32 SOAs of 16/16/2 become 130 MB of C++
+    * that take 9 minutes to compile and simulate at half the speed of one shared class (measured
+    * on 32 fp32 SOAs: 3.9 k against 7.8 k cycles per second, 1 minute to build). Keeping the TSMs
+    * and SOMs too cut the 16/16/2 build from 293 s to 220 s and its C++ from 60 to 49 MB, and ran
+    * 7 % faster (docs/harness.md, "Speed"). */
   def noInlineConfig(sv: String): String = {
-    val names = """(?m)^module\s+((?:Conv)?(?:SOA|TSA)_\w+)""".r.findAllMatchIn(sv).map(_.group(1)).toSeq.distinct
+    val names = """(?m)^module\s+((?:Conv)?(?:SOA|TSA)_\w+|Tsm_\w+|Som_\w+)""".r.findAllMatchIn(sv).map(_.group(1)).toSeq.distinct
     ("`verilator_config" +: names.map(n => s"""no_inline -module "$n"""")).mkString("", "\n", "\n")
   }
 
@@ -90,12 +99,13 @@ object Harness {
     * [latencyMax, tailLatency] instead (a long tail); `queryGap`, `reqStall` and `respGap` are
     * per-cycle probabilities of a gap in the query stream, of refusing a memory request and of
     * holding back a response beat. `simThreads` > 1 runs a multithreaded model. `fault` injects one
-    * of [[Faults]] (from cycle `faultAt`): the run must then FAIL, naming it. */
+    * of [[Faults]] (from cycle `faultAt`): the run must then FAIL, naming it. `results` writes one line
+    * `cycle port q photon` per result beat to that file. */
   final case class RunOptions(latency: Int = 100, bandwidth: Double = 14.0, seed: Long = 1, maxCycles: Long = 0,
                               clockGhz: Double = 1.5, wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue,
                               latencyMax: Int = 0, queryGap: Double = 0, reqStall: Double = 0, respGap: Double = 0,
                               simThreads: Int = 1, tailProb: Double = 0, tailLatency: Int = 0, fault: Option[String] = None,
-                              faultAt: Long = 0) {
+                              faultAt: Long = 0, results: Option[Path] = None) {
     MapmError.check(simThreads >= 1 && simThreads <= 64, s"--sim-threads must be 1..64, got $simThreads")
     MapmError.check(latency >= 0, s"--latency must be at least 0, got $latency")
     MapmError.check(seed >= 0, s"--seed must be 0..${Long.MaxValue}, got $seed")
@@ -117,7 +127,8 @@ object Harness {
       Seq("--query-gap" -> queryGap, "--req-stall" -> reqStall, "--resp-gap" -> respGap, "--tail-prob" -> tailProb).filter(_._2 > 0).flatMap { case (k, v) => Seq(k, v.toString) } ++
       (if (tailProb > 0) Seq("--tail-latency", tailLatency.toString) else Seq.empty) ++
       fault.toSeq.flatMap(f => Seq("--fault", f, "--fault-at", faultAt.toString)) ++
-      wave.toSeq.flatMap(w => Seq("--wave", w.toString, "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString))
+      wave.toSeq.flatMap(w => Seq("--wave", w.toString, "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString)) ++
+      results.toSeq.flatMap(r => Seq("--results", r.toString))
   }
 
   /** The faults the harness injects (`--fault`, tools/harness/fault.h, docs/harness.md). */

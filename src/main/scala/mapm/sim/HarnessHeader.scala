@@ -28,7 +28,9 @@ object HarnessHeader {
       "TSM_QUERIES" -> p.queues.tsmQueries, "QUERY_FETCHES" -> p.queues.queryFetches,
       "ADDRESS_BITS" -> mem.addressBits, "MEM_DATA_BYTES" -> mem.dataBytes, "MEM_ID_BITS" -> mem.idBits,
       "MEM_MAX_BEATS" -> mem.maxBeats, "MEM_MAX_OUTSTANDING" -> p.memory.maxOutstanding,
-      "QUERY_BITS" -> p.indices.queryBits, "NODE_BITS" -> p.indices.nodeBits)
+      "QUERY_BITS" -> p.indices.queryBits, "NODE_BITS" -> p.indices.nodeBits,
+      // 1: the SOAs are their timing model (mapm.shader.SoaTiming); colours and cond come from the expected SOs.
+      "FIDELITY_TIMING" -> (if (p.sim.fidelity == mapm.params.Fidelity.Timing) 1 else 0))
     // Verilator holds ports of more than 64 bits as arrays of 32-bit words.
     val data =
       if (mem.dataBytes > 8) (0 until mem.dataBytes / 4).map(i => s"  { uint32_t w; memcpy(&w, d + ${4 * i}, 4); t->io_mem_resp_bits_data[$i] = w; }")

@@ -70,7 +70,11 @@ final case class HarnessStats(
     counters: SeqMap[String, Long],
     wallSeconds: Double,
     simulatedCyclesPerSecond: Double,
-    json: ujson.Obj)
+    json: ujson.Obj) {
+  /** `full`, or `timing` when the SOAs were their timing model and the colours and
+    * `soPassingCond` came from the model's expected SOs. */
+  def fidelity: String = json.value.get("fidelity").flatMap(_.strOpt).getOrElse("full")
+}
 
 object HarnessStats {
   /** One cache's counts: `hitRate` is `hits / (hits + misses)`, 0 when it saw no access. */

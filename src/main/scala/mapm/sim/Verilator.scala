@@ -18,21 +18,30 @@ object Verilator {
       MapmError.fail("verilator not found on PATH (tools/sbt installs it; or apt-get install verilator)"))
   }
 
+  /** The C++ optimisation of the generated code: Verilator's defaults for the per-cycle code and
+    * the run-time library (`-Os`: at 16/16/2 `-O2` ran 11 % slower, its larger code missing the
+    * instruction cache in the SOAs' big per-cycle functions; docs/harness.md), and none for the
+    * run-once construction code (OPT_SLOW), which only lengthens the build. Passed as a make
+    * variable: Verilator 5.006 puts its OPT_* flags after the user's CFLAGS, so the `-CFLAGS -O2`
+    * used before never reached the per-cycle code (still `-Os`) and only slowed the build of the
+    * run-once code (the order was fixed upstream in 5.010). */
+  val optFlags: Seq[String] = Seq("-MAKEFLAGS", "OPT_SLOW=-O0")
+
   /** Verilates `svFiles` with the C++ `harness` into an executable `dir/name` (built in
-    * `dir/obj`), using ccache when present. Returns the executable; a [[MapmError]] with the
-    * tail of the log when the build fails. */
+    * `dir/obj`), using ccache when present and `ccache` is set. Returns the executable; a
+    * [[MapmError]] with the tail of the log when the build fails. */
   def build(svFiles: Seq[Path], harness: Path, top: String, dir: Path, name: String,
-            extraFlags: Seq[String] = Seq.empty): Path = {
+            extraFlags: Seq[String] = Seq.empty, ccache: Boolean = true): Path = {
     val exe = dir.resolve(name)
     val obj = dir.resolve("obj")
     Files.createDirectories(obj)
     val cmd = Seq(executable, "--cc", "--exe", "--build", "-O3", "-Wno-fatal", "--x-assign", "fast",
       "--x-initial", "fast", "--top-module", top, "-Mdir", obj.toString, "-o", exe.toAbsolutePath.toString,
-      "-j", Runtime.getRuntime.availableProcessors.toString, "-CFLAGS", "-O2") ++ extraFlags ++
+      "-j", Runtime.getRuntime.availableProcessors.toString) ++ optFlags ++ extraFlags ++
       svFiles.map(_.toString) :+ harness.toString
-    val hasCcache = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator)
+    val hasCcache = ccache && sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator)
       .exists(d => Files.isExecutable(java.nio.file.Paths.get(d, "ccache")))
-    val env = if (hasCcache) Seq("OBJCACHE" -> "ccache") else Seq.empty
+    val env = if (hasCcache) Seq("OBJCACHE" -> "ccache") else Seq("CCACHE_DISABLE" -> "1")
     val log = new StringBuilder
     val rc = Process(cmd, dir.toFile, env: _*).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
     if (rc != 0 || !Files.isExecutable(exe)) {
@@ -40,6 +49,18 @@ object Verilator {
       MapmError.fail(s"verilator build of $top failed (exit $rc) in $dir:\n$tail")
     }
     exe
+  }
+
+  /** valgrind (for callgrind's instruction counts), installed through `tools/setup.sh` when
+    * missing; a [[MapmError]] saying why when it cannot be. */
+  lazy val valgrind: String = {
+    val setup = Harness.root.resolve("tools/setup.sh")
+    val out = new StringBuilder
+    val err = new StringBuilder
+    val rc = Process(Seq("bash", "-c", s"""source "$setup" && mapm_ensure_valgrind""")).!(
+      ProcessLogger(l => out.append(l).append('\n'), l => err.append(l).append('\n')))
+    out.toString.linesIterator.collectFirst { case l if rc == 0 && l.startsWith("valgrind=") => l.stripPrefix("valgrind=") }
+      .getOrElse(MapmError.fail(err.toString.linesIterator.toSeq.lastOption.getOrElse("valgrind could not be installed").stripPrefix("mapm setup: ")))
   }
 
   /** A short stable hash of some strings, for build-cache directory names. */

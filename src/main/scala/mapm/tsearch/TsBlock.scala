@@ -1,6 +1,7 @@
 package mapm.tsearch
 
 import chisel3._
+import chisel3.experimental.hierarchy.{Definition, Instance}
 import chisel3.util._
 import mapm.memory.{CacheConfig, MemArbiter, MemPort, ReadOnlyCache}
 import mapm.params.{MapmConfig, MapmParams, QueryIn, SoGroup}
@@ -66,7 +67,7 @@ class TsBlock(p: MapmParams) extends Module {
   private val emptyTree = io.cfg.nodeCount === 0.U
   private val reserve = Mux(emptyTree, 0.U, Log2(io.cfg.nodeCount) +& 1.U)
 
-  val tsms = Seq.fill(t)(Module(new Tsm(p)))
+  val tsms: Seq[Instance[Tsm]] = { val d = Definition(new Tsm(p)); Seq.fill(t)(Instance(d)) } // elaborated once
   val arb = Module(new MemArbiter(l1.down, t, maxOutstanding = 4 * t))
   val l2 = Module(new ReadOnlyCache(l2Config))
   l2.io.up <> arb.io.down

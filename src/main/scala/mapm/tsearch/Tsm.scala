@@ -1,6 +1,7 @@
 package mapm.tsearch
 
 import chisel3._
+import chisel3.experimental.hierarchy.{instantiable, public}
 import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
@@ -68,6 +69,7 @@ class TsmEvents extends Bundle {
   * (output register) cycles from taking an operation to its SO group; its children can be taken
   * again the cycle after. Throughput: one tree-search operation per cycle.
   */
+@instantiable
 class Tsm(p: MapmParams) extends Module {
   private val fmt = p.numbers.format
   private val w = fmt.width
@@ -78,7 +80,7 @@ class Tsm(p: MapmParams) extends Module {
   val l1Config: CacheConfig = Tsm.l1Config(p)
   override def desiredName = s"Tsm_${fmt.name}_d${depth}_f${ns}_q$nq"
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val cfg = Input(new TsmConfig(p))
     /** A new query offered by the Launcher; `ready` says this TSM would take one. */
     val query = Flipped(Decoupled(new QueryData(p)))

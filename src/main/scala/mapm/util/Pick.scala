@@ -16,13 +16,26 @@ object Pick {
     }
   }
 
-  /** [[roundRobin]] as a one-hot mask (all zero when `mask` is). */
-  def roundRobinOH(mask: UInt, from: UInt): UInt = {
-    val n = mask.getWidth
-    if (n == 1) mask
+  /** [[roundRobin]] as a one-hot mask (all zero when `mask` is), given `after` = `atOrAfter(from,
+    * n)`, which many picks from the same `from` share. */
+  def roundRobinOH(mask: UInt, after: UInt): UInt =
+    if (mask.getWidth == 1) mask
     else {
-      val above = mask & VecInit((0 until n).map(i => i.U >= from)).asUInt
+      val above = mask & after
       Mux(above.orR, PriorityEncoderOH(above), PriorityEncoderOH(mask))
+    }
+
+  /** The n-bit mask of the positions at or after `from`. */
+  def atOrAfter(from: UInt, n: Int): UInt = VecInit((0 until n).map(i => i.U >= from)).asUInt
+
+  /** `v` rotated by `by` (which must be below `v.size`): element k of the result is v((k + by) mod n),
+    * or v((k - by) mod n) when `back`. A barrel of log2(n) stages of n two-way selects (a rotation
+    * by each set bit's weight mod n), not n n-way selects: the same function at n log n cost. */
+  def rotate[T <: Data](v: Seq[T], by: UInt, back: Boolean = false): Seq[T] = {
+    val n = v.size
+    (0 until bits(n)).filter(b => ((1 << b) % n) != 0).foldLeft(v) { (cur, b) =>
+      val step = if (back) n - (1 << b) % n else (1 << b) % n
+      Seq.tabulate(n)(k => Mux(by(b), cur((k + step) % n), cur(k)))
     }
   }
 

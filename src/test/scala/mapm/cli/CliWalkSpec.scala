@@ -27,6 +27,7 @@ class CliWalkSpec extends AnyFunSuite {
   private def base(cmd: String): Seq[(String, String)] = cmd match {
     case "render" => Seq("scene" -> small, "tsm" -> "1", "som" -> "1", "soa" -> "1", "out" -> s"$work/out")
     case "sweep" => Seq("scene" -> small, "configs" -> "1/1/1", "out" -> s"$work/out")
+    case "bench-sim" => Seq("scene" -> small, "tsm" -> "1", "som" -> "1", "soa" -> "1", "out" -> s"$work/out")
     case "stress" => Seq("configs" -> "1/1/1", "seeds" -> "1", "out" -> s"$work/out")
     case "model" | "bench-model" => Seq("scene" -> small, "out" -> s"$work/out", "threads" -> "1")
     case "kdtree" => Seq("photons" -> "test-scenes/table-3-1/photons.csv")
@@ -59,6 +60,7 @@ class CliWalkSpec extends AnyFunSuite {
     case "format" => Seq("fp33", "e99m99")
     case "arith" => Seq("quantum")
     case "layout" => Seq("tight")
+    case "fidelity" => Seq("approximate")
     case _ => Seq(unwritable)
   }
 

@@ -31,12 +31,14 @@ class HarnessSpec extends AnyFunSuite {
     (s << (f.expWidth + f.manWidth)) | (e.toLong << f.manWidth) | m
   }
 
-  test("the replicated units of either arithmetic stay their own Verilator classes (no_inline), nothing else") {
+  test("the replicated units of either arithmetic, and the TSM and SOM, stay their own Verilator classes (no_inline), nothing else") {
     val sv = Seq("Mapm_t2s1a2_e8m23_g3", "SOA_e8m23_g3", "ConvSOA_e8m23", "TSA_e8m23_t54_en", "ConvTSA_e8m23_t54_a9_en",
-      "FAdd_e8m23_s9", "SomLane_x", "ConvShaderChain_e8m23").map(m => s"module $m(\n  input clock\n);\nendmodule\n").mkString
+      "FAdd_e8m23_s9", "SomLane_x", "ConvShaderChain_e8m23", "Tsm_e8m23_d256_f16_q32", "Som_e8m23_g3_a2_r8", "SoaTiming_e8m23_t46_l45",
+      "TsBlock_t2_e8m23").map(m => s"module $m(\n  input clock\n);\nendmodule\n").mkString
     val lines = Harness.noInlineConfig(sv).linesIterator.toSeq
     assert(lines.head == "`verilator_config")
-    assert(lines.tail == Seq("SOA_e8m23_g3", "ConvSOA_e8m23", "TSA_e8m23_t54_en", "ConvTSA_e8m23_t54_a9_en").map(m => s"""no_inline -module "$m""""))
+    assert(lines.tail == Seq("SOA_e8m23_g3", "ConvSOA_e8m23", "TSA_e8m23_t54_en", "ConvTSA_e8m23_t54_a9_en", "Tsm_e8m23_d256_f16_q32",
+      "Som_e8m23_g3_a2_r8").map(m => s"""no_inline -module "$m""""))
   }
 
   test("ExactSum: exact in any order, rounded once like BigDecimal") {

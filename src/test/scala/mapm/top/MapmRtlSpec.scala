@@ -9,6 +9,7 @@ import mapm.model.{Arith, FloatFormat, TestScenes}
 import mapm.params._
 import mapm.sim.{Harness, HarnessStats}
 import org.scalatest.funsuite.AnyFunSuite
+import scala.jdk.CollectionConverters._
 
 /** The whole MAPM's emitted SystemVerilog (the CIRCT output `emit` writes) in the Verilator
   * harness, against the model: every shader operation's (query, photon, colour bits, flags, cond)
@@ -67,6 +68,40 @@ class MapmRtlSpec extends AnyFunSuite {
       check(small, p, stress, seeds)
       check(large, p, stress, seeds.take(1))
       info(s"${seeds.size + 1} runs: ${small.frame.querySet.size} and ${large.frame.querySet.size} queries, ${small.model.count} and ${large.model.count} SOs")
+    }
+
+  // The timing model (--fidelity timing): each SOA a delay line of its latency. Against the full RTL
+  // on the same frame and the same memory seed: the same cycles, every counter but soPassed (which
+  // counts cond bits the model does not compute) equal, the same stalls, cache and memory figures,
+  // and the identical sequence of (cycle, port, q, photon) result beats.
+  for (((t, s, a), seed) <- Seq((1, 1, 1) -> 31L, (2, 1, 2) -> 32L, (4, 4, 2) -> 33L, (3, 2, 3) -> 34L))
+    test(s"$t/$s/$a fp32 timing model: cycle for cycle the full RTL's results, counters and stalls on two scenes") {
+      assume(haveVerilator, "verilator is not on PATH")
+      val full = MapmParams.of(t, s, a, FloatFormat.fp32, 3)
+      val timing = MapmParams.of(t, s, a, FloatFormat.fp32, 3, fidelity = Fidelity.Timing)
+      assert(timing.name == full.name + "_timing")
+      for (prep <- Seq(small, large)) {
+        def run(p: MapmParams): (HarnessStats, Seq[String], String) = {
+          val out = dir.resolve(s"${prep.name}-${p.name}-results-$seed")
+          val results = out.resolve("results.txt")
+          val r = RtlRun.runConfig(prep, p, stress.copy(seed = seed, results = Some(results)), out, _ => ())
+          assert(r.passed, s"${p.name} on ${prep.name}: ${r.failure}")
+          (r.outcome.stats.get, Files.readAllLines(results).asScala.toSeq, r.outcome.verdict)
+        }
+        val (fs, fr, _) = run(full)
+        val (ts, tr, verdict) = run(timing)
+        assert(fs.fidelity == "full" && ts.fidelity == "timing")
+        assert(verdict.contains("colours from the model"), verdict)
+        assert(fr.size == prep.model.count && fr.nonEmpty)
+        assert(tr == fr, s"${prep.name}: result beats differ, first at ${fr.zip(tr).indexWhere(x => x._1 != x._2)}")
+        assert(ts.cycles == fs.cycles)
+        assert(ts.counters.removed("soPassed") == fs.counters.removed("soPassed"))
+        assert(fs.counters("soPassed") == prep.model.passing && ts.counters("soPassed") == 0, "the timing model computes no cond")
+        assert(ts.soPassingCond == fs.soPassingCond, "the harness's cond count, from the model in timing mode")
+        assert(ts.stallCycles == fs.stallCycles && ts.caches == fs.caches)
+        assert(ts.bytesFetched == fs.bytesFetched && ts.memoryRequests == fs.memoryRequests)
+        info(s"${prep.name}: ${fs.cycles} cycles, ${fr.size} result beats identical")
+      }
     }
 
   test("conventional arithmetic, 2/1/2 fp32: every SO exact under random memory timing; the same TS ops and SOs as online") {

@@ -1,0 +1,85 @@
+package mapm.cli
+
+import java.nio.file.{Files, Path}
+
+import mainargs.{Flag, ParserForMethods, arg, main}
+import mapm.MapmError
+import mapm.cli.Args.rtlOptionsParser
+import mapm.sim.{Harness, MapmRtl}
+import scala.sys.process._
+
+/** `mapm bench-sim`: the simulation's figures of merit for one configuration on one frame
+  * (docs/harness.md, "Simulation speed"):
+  *  - the Verilator build time (`--fresh`: from scratch, without ccache; else whatever the cache gives);
+  *  - simulated cycles per second of the whole frame, and its PASS/FAIL verdict;
+  *  - callgrind's instructions per simulated cycle over cycles `--from` to `--to`: two runs stopped
+  *    at each (`--max-cycles`), their difference over the cycles between, so the start-up (reading
+  *    the image and the expected SOs) cancels. Unlike seconds, this count repeats on a shared machine.
+  * Writes the figures to `<out>/bench-sim-<top>.json` as well. */
+object BenchSimCommand extends Command {
+  val name = "bench-sim"
+  val summary = "benchmark: Verilator build time, simulated cycles/s and callgrind instructions per simulated cycle"
+
+  @main
+  def benchSim(
+      @arg(doc = "Tree Search Modules") tsm: Int = 16,
+      @arg(doc = "Shader Operation Modules") som: Int = 16,
+      @arg(doc = "SOAs per SOM") soa: Int = 2,
+      @arg(doc = "first cycle of the callgrind window") from: Long = 1000,
+      @arg(doc = "last cycle of the callgrind window") to: Long = 3000,
+      @arg(doc = "build from scratch without ccache, to measure the build") fresh: Flag,
+      @arg(doc = "skip the callgrind runs") noCallgrind: Flag,
+      opts: RtlOptions
+  ): Int = {
+    MapmError.check(from >= 0 && to > from, s"--from and --to must be 0 <= from < to, got $from and $to")
+    val harness = opts.harness()
+    val setup = opts.setup(Seq((tsm, som, soa)))
+    val (p, prep) = (setup.params.head, setup.prep)
+    val log = (l: String) => System.err.println(s"mapm: $l")
+    val t0 = System.nanoTime()
+    val (sv, top) = MapmRtl.emit(p, log)
+    val t1 = System.nanoTime()
+    val exe = Harness.build(sv, top, log = log, fresh = fresh.value)
+    val t2 = System.nanoTime()
+    val outcome = Harness.run(exe, prep.image, prep.expected, prep.work, harness, Some(s"RTL ${p.counts.label}"))
+    val stats = outcome.stats.getOrElse(MapmError.fail(s"bench-sim: the harness wrote no stats: ${outcome.verdict}"))
+    val perCycle = if (noCallgrind.value) None else {
+      val valgrind = mapm.sim.Verilator.valgrind
+      def instructions(cycles: Long): Long = {
+        val file = prep.work.resolve(s"callgrind-$cycles.out")
+        val cmd = Seq(valgrind, "--tool=callgrind", s"--callgrind-out-file=$file", exe.toString, "--image", prep.image.toString,
+          "--expected", prep.expected.toString, "--out", prep.work.resolve("callgrind").toString) ++ harness.copy(maxCycles = cycles).args
+        Files.createDirectories(prep.work.resolve("callgrind"))
+        log(s"callgrind to cycle $cycles ...")
+        Process(cmd).!(ProcessLogger(_ => (), _ => ()))
+        summary(file)
+      }
+      val (a, b) = (instructions(from), instructions(to))
+      Some((b - a).toDouble / (to - from))
+    }
+    val build = (t2 - t1) / 1e9
+    println(f"$top (${p.counts.label}, ${p.numbers.format}, ${p.numbers.arith}): emit ${(t1 - t0) / 1e9}%.1f s (cached when fast), " +
+      f"build ${build}%.1f s${if (fresh.value) " (fresh, no ccache)" else " (cache allowed; --fresh to measure)"}")
+    println(f"simulation: ${stats.cycles}%d cycles in ${stats.wallSeconds}%.1f s = ${stats.simulatedCyclesPerSecond}%.0f cycles/s; ${outcome.verdict}")
+    perCycle.foreach(v => println(f"callgrind: ${v / 1e6}%.3f M instructions per simulated cycle (cycles $from to $to)"))
+    val json = ujson.Obj("top" -> top, "config" -> p.counts.label, "scene" -> opts.scene, "buildSeconds" -> build,
+      "freshBuild" -> fresh.value, "cycles" -> stats.cycles.toDouble, "simulatedCyclesPerSecond" -> stats.simulatedCyclesPerSecond,
+      "verdict" -> outcome.verdict, "instructionsPerCycle" -> perCycle.map(ujson.Num(_)).getOrElse(ujson.Null),
+      "callgrindFrom" -> from.toDouble, "callgrindTo" -> to.toDouble)
+    val out = java.nio.file.Paths.get(opts.out).resolve(s"bench-sim-$top.json")
+    Files.write(out, ujson.write(json, indent = 2).getBytes("UTF-8"))
+    println(s"wrote $out")
+    if (!outcome.passed) MapmError.fail(s"bench-sim: ${outcome.verdict}")
+    0
+  }
+
+  /** The total instruction count of a callgrind output file (its `summary:` line). */
+  def summary(file: Path): Long = {
+    MapmError.check(Files.isRegularFile(file), s"callgrind wrote no $file")
+    val line = scala.io.Source.fromFile(file.toFile).getLines().find(_.startsWith("summary:"))
+    line.map(_.stripPrefix("summary:").trim.split("\\s+").head.toLong)
+      .getOrElse(MapmError.fail(s"$file: no callgrind summary line"))
+  }
+
+  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+}

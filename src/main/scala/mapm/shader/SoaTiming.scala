@@ -1,0 +1,32 @@
+package mapm.shader
+
+import chisel3._
+import chisel3.util._
+import mapm.fpu.FpuDepth
+import mapm.model.{Arith, FloatFormat}
+
+/** The timing model of an [[SOA]] (`--fidelity timing`, docs/harness.md): a delay line of exactly
+  * the SOA's latency carrying `valid` and the tag (the query and photon indices), nothing else.
+  *
+  * The SOA takes one operation per cycle, never stalls and gives each result a fixed
+  * [[SOA.latency]] later in input order, and nothing around it reads a result's colour or cond:
+  * the SOM lane passes them out of the MAPM. So a MAPM with this model in every lane is cycle for
+  * cycle the same machine at its ports: the same results with the same indices on the same ports
+  * in the same cycles, the same stalls and counters, except `soPassed`, which counts cond bits the
+  * model does not compute. Colour, flags and cond read as zero; the harness takes them from the
+  * expected SOs (`MAPM_FIDELITY_TIMING`) and says so. `MapmTimingSpec` proves the equivalence.
+  *
+  * Latency: [[SOA.latency]] of the same arguments. Throughput: one operation per cycle.
+  */
+class SoaTiming(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
+                val condDepth: Option[FpuDepth] = None, val arith: Arith = Arith.Online) extends ShaderUnit {
+  val latency: Int = SOA.latency(format, g, condDepth.getOrElse(FpuDepth.of(format)), arith)
+  override def desiredName: String = s"SoaTiming_${format.name}_t${tagWidth}_l$latency"
+
+  val io = IO(new SoaIO(format, tagWidth))
+  io.out.valid := ShiftRegister(io.in.valid, latency, false.B, true.B)
+  io.out.bits.tag := ShiftRegister(io.in.bits.tag, latency)
+  io.out.bits.colour.foreach(_ := 0.U)
+  io.out.bits.flags.foreach(_ := 0.U)
+  io.out.bits.cond := false.B
+}
