@@ -5,7 +5,7 @@ import java.nio.file.{Files, Path}
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cli.Args.rtlOptionsParser
-import mapm.sim.{Harness, MapmRtl}
+import mapm.sim.{Harness, MapmRtl, Verilator}
 import scala.sys.process._
 
 /** `mapm bench-sim`: the simulation's figures of merit for one configuration on one frame
@@ -36,15 +36,12 @@ object BenchSimCommand extends Command {
     val setup = opts.setup(Seq((tsm, som, soa)))
     val (p, prep) = (setup.params.head, setup.prep)
     val log = (l: String) => System.err.println(s"mapm: $l")
-    val t0 = System.nanoTime()
-    val (sv, top) = MapmRtl.emit(p, log)
-    val t1 = System.nanoTime()
-    val exe = Harness.build(sv, top, log = log, fresh = fresh.value)
-    val t2 = System.nanoTime()
+    val built = RtlRun.build(p, trace = false, opts.simThreads, log, fresh.value)
+    val (exe, top) = (built.exe, MapmRtl.topName(p))
     val outcome = Harness.run(exe, prep.image, prep.expected, prep.work, harness, Some(s"RTL ${p.counts.label}"))
     val stats = outcome.stats.getOrElse(MapmError.fail(s"bench-sim: the harness wrote no stats: ${outcome.verdict}"))
     val perCycle = if (noCallgrind.value) None else {
-      val valgrind = mapm.sim.Verilator.valgrind
+      val valgrind = Verilator.valgrind
       def instructions(cycles: Long): Long = {
         val file = prep.work.resolve(s"callgrind-$cycles.out")
         val cmd = Seq(valgrind, "--tool=callgrind", s"--callgrind-out-file=$file", exe.toString, "--image", prep.image.toString,
@@ -57,8 +54,8 @@ object BenchSimCommand extends Command {
       val (a, b) = (instructions(from), instructions(to))
       Some((b - a).toDouble / (to - from))
     }
-    val build = (t2 - t1) / 1e9
-    println(f"$top (${p.counts.label}, ${p.numbers.format}, ${p.numbers.arith}): emit ${(t1 - t0) / 1e9}%.1f s (cached when fast), " +
+    val build = built.buildSeconds
+    println(f"$top (${p.counts.label}, ${p.numbers.format}, ${p.numbers.arith}): emit ${built.emitSeconds}%.1f s (cached when fast), " +
       f"build ${build}%.1f s${if (fresh.value) " (fresh, no ccache)" else " (cache allowed; --fresh to measure)"}")
     println(f"simulation: ${stats.cycles}%d cycles in ${stats.wallSeconds}%.1f s = ${stats.simulatedCyclesPerSecond}%.0f cycles/s; ${outcome.verdict}")
     perCycle.foreach(v => println(f"callgrind: ${v / 1e6}%.3f M instructions per simulated cycle (cycles $from to $to)"))

@@ -22,12 +22,12 @@ object RtlRun {
   /** A configuration's harness, emitted and built (with its trace flag and model threads), and the seconds each took. */
   final case class Built(exe: Path, trace: Boolean, simThreads: Int, emitSeconds: Double, buildSeconds: Double)
 
-  /** Emits and builds `p`'s harness ([[MapmRtl.emit]], [[Harness.build]]). */
-  def build(p: MapmParams, trace: Boolean, simThreads: Int, log: String => Unit): Built = {
+  /** Emits and builds `p`'s harness ([[MapmRtl.emit]], [[Harness.build]]; `fresh` as there). */
+  def build(p: MapmParams, trace: Boolean, simThreads: Int, log: String => Unit, fresh: Boolean = false): Built = {
     val t0 = System.nanoTime()
     val (sv, top) = MapmRtl.emit(p, log)
     val t1 = System.nanoTime()
-    val exe = Harness.build(sv, top, trace, log, simThreads)
+    val exe = Harness.build(sv, top, trace, log, simThreads, fresh)
     Built(exe, trace, simThreads, (t1 - t0) / 1e9, secs(t1))
   }
 

@@ -53,15 +53,8 @@ object Verilator {
 
   /** valgrind (for callgrind's instruction counts), installed through `tools/setup.sh` when
     * missing; a [[MapmError]] saying why when it cannot be. */
-  lazy val valgrind: String = {
-    val setup = Harness.root.resolve("tools/setup.sh")
-    val out = new StringBuilder
-    val err = new StringBuilder
-    val rc = Process(Seq("bash", "-c", s"""source "$setup" && mapm_ensure_valgrind""")).!(
-      ProcessLogger(l => out.append(l).append('\n'), l => err.append(l).append('\n')))
-    out.toString.linesIterator.collectFirst { case l if rc == 0 && l.startsWith("valgrind=") => l.stripPrefix("valgrind=") }
-      .getOrElse(MapmError.fail(err.toString.linesIterator.toSeq.lastOption.getOrElse("valgrind could not be installed").stripPrefix("mapm setup: ")))
-  }
+  lazy val valgrind: String =
+    mapm.SetupScript.run(Harness.root, "mapm_ensure_valgrind", Seq("valgrind")).fold(MapmError.fail(_), _("valgrind"))
 
   /** A short stable hash of some strings, for build-cache directory names. */
   def hash(parts: String*): String = {
