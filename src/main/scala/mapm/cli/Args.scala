@@ -73,6 +73,16 @@ object Args {
       catch { case e: MapmError => Left(e.getMessage) }
   }
 
+  implicit object CacheSpecReader extends TokensReader.Simple[mapm.params.CacheSpec] {
+    def shortName = "geometry"
+    def read(strs: Seq[String]): Either[String, mapm.params.CacheSpec] =
+      try Right(mapm.params.CacheSpec.parse(strs.last))
+      catch { case e: MapmError => Left(e.getMessage) }
+  }
+
+  /** The hardware sizes `emit`, `render`, `sweep` and `evaluate` share (see [[rtlOptionsParser]] for why here). */
+  implicit lazy val hwOptionsParser: ParserForClass[HwOptions] = ParserForClass[HwOptions]
+
   /** The parser of the options `render` and `sweep` share. It lives here, not in the options'
     * companion: mainargs finds a case class's defaults among its companion's members, which are
     * not all known while the companion itself is being compiled (every default was lost). */

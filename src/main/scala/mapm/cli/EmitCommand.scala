@@ -9,7 +9,7 @@ import mapm.model.{Arith, FloatFormat}
 import mapm.sim.Emit
 import mapm.params.{Fidelity, MapmParams}
 import mapm.top.Mapm
-import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}
+import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader, hwOptionsParser}
 
 /** `mapm emit`: writes the SystemVerilog of a whole MAPM ([[Mapm]]) of any size and format
   * through CIRCT, and `mapm_config.h` with the same parameters for a C++ harness. Prints the
@@ -28,11 +28,10 @@ object EmitCommand extends Command {
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
       @arg(doc = "arithmetic of the SOAs and TSAs: online (the dissertation's) or conventional (correctly rounded floating point)") arith: Arith = Arith.Online,
       @arg(doc = "full: the SOAs' arithmetic; timing: each SOA a latency-exact delay line (cycle-exact, no colours; docs/harness.md)") fidelity: Fidelity = Fidelity.Full,
-      @arg(doc = "entries of each TSM's Register-queue bank (default 128)") rqDepth: Option[Int] = None,
-      @arg(doc = "reservation-station entries per SOM (default 8 per SOA)") rsEntries: Option[Int] = None,
-      @arg(doc = "output directory") out: String = "out/mapm"
+      @arg(doc = "output directory") out: String = "out/mapm",
+      hw: HwOptions
   ): Int = {
-    val p = MapmParams.of(tsm, som, soa, format, g, rqDepth, rsEntries, layout, arith, fidelity)
+    val p = MapmParams.of(tsm, som, soa, format, g, layout, arith, fidelity, hw.tuning)
     val top = s"Mapm_${p.name}"
     val dir = Paths.get(out)
     val t0 = System.nanoTime()

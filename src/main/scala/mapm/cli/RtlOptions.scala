@@ -10,8 +10,8 @@ import mapm.params.Fidelity
 import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}
 
 /** The options `render` and `sweep` share ([[RtlRun]]): the scene and its number format, the
-  * harness's memory model and limits ([[Harness.RunOptions]]), the output folder and the model's
-  * threads. Each command takes it as one parameter; mainargs lists its flags with the command's own. */
+  * harness's memory model and limits ([[Harness.RunOptions]]), the output folder, the model's
+  * threads and the hardware sizes ([[HwOptions]]). Each command takes it as one parameter; mainargs lists its flags with the command's own. */
 @main
 final case class RtlOptions(
     @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
@@ -33,7 +33,8 @@ final case class RtlOptions(
     @arg(doc = "threads of the Verilator model (a separate build; 1 is fastest on this design, see docs/harness.md)") simThreads: Int = 1,
     @arg(doc = "stop a run with FAIL after this many cycles (0: no limit)") maxCycles: Long = 0,
     @arg(doc = "output folder") out: String = "out",
-    @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads) {
+    @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads,
+    hw: HwOptions = HwOptions()) {
 
   /** The harness's options for each run, with an FST waveform of cycles [waveStart, waveEnd] when `wave` is given. */
   def harness(wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue): Harness.RunOptions =
@@ -42,5 +43,5 @@ final case class RtlOptions(
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
   def setup(configs: Seq[(Int, Int, Int)], prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): RtlRun.Setup =
-    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, prebuild, log)
+    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, hw.tuning, prebuild, log)
 }

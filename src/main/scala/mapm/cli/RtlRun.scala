@@ -6,7 +6,7 @@ import mapm.MapmError
 import mapm.format.{MemoryImage, SlotLayout}
 import mapm.model._
 import mapm.sim.{ExpectedSo, Harness, MapmRtl}
-import mapm.params.{Fidelity, MapmParams}
+import mapm.params.{Fidelity, MapmParams, Tuning}
 import scala.concurrent.{Await, Future}
 import scala.concurrent.duration.Duration
 
@@ -50,18 +50,18 @@ object RtlRun {
 
   /** Loads `scene`, resolves its number format once (`format`, else the scene's, else fp32), makes
     * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits, arithmetic `arith`
-    * and memory records in `layout`, then runs the model side once; files go to
+    * and memory records in `layout`, sized by `tuning`, then runs the model side once; files go to
     * `outDir/<scene>-rtl/` (`<scene>-conv-rtl/` for the conventional arithmetic, whose name
     * carries `-conv` in every output file). With `prebuild` (trace, model threads) every
     * configuration is emitted and built on a thread of its own while the model runs, and
     * [[runConfig]] takes that build. */
   def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int,
             layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online, fidelity: Fidelity = Fidelity.Full,
-            prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): Setup = {
+            tuning: Tuning = Tuning(), prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): Setup = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout = layout, arith = arith, fidelity = fidelity) }
+    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout, arith, fidelity, tuning) }
     checkFits(config, params.headOption.getOrElse(MapmParams.default).indices)
     import scala.concurrent.ExecutionContext.Implicits.global
     val builds = prebuild.toSeq.flatMap { case (trace, threads) => params.map(p => p -> Future(build(p, trace, threads, log))) }.toMap
@@ -96,15 +96,15 @@ object RtlRun {
     setup(scene, format, g, Seq.empty, outDir, threads, layout, arith).prep
 
   /** Emits, builds and runs configuration `p` (in the frame's format, as [[setup]] makes it) on a
-    * prepared frame; the harness writes into `dir`. */
-  def runConfig(prep: Prepared, p: MapmParams, opts: Harness.RunOptions, dir: Path, log: String => Unit): ConfigRun = {
+    * prepared frame; the harness writes into `dir` (with a progress bar when `progress`). */
+  def runConfig(prep: Prepared, p: MapmParams, opts: Harness.RunOptions, dir: Path, log: String => Unit, progress: Boolean = true): ConfigRun = {
     MapmError.check(p.numbers.format == prep.frame.format && p.memory.layout == prep.layout && p.numbers.arith == prep.arith,
       s"${p.name}: the frame was prepared in ${prep.frame.format} ${prep.arith} with the ${prep.layout} layout, the configuration reads ${p.numbers.format} ${p.numbers.arith} in the ${p.memory.layout} one")
     val t0 = System.nanoTime()
     val early = prep.builds.get(p).map(f => Await.result(f, Duration.Inf)).filter(b => b.trace == opts.wave.isDefined && b.simThreads == opts.simThreads)
     val built = early.getOrElse(build(p, opts.wave.isDefined, opts.simThreads, log))
     val t2 = System.nanoTime()
-    val outcome = Harness.run(built.exe, prep.image, prep.expected, dir, opts, Some(s"RTL ${p.counts.label}"))
+    val outcome = Harness.run(built.exe, prep.image, prep.expected, dir, opts, if (progress) Some(s"RTL ${p.counts.label}") else None)
     val times = Seq("emit" -> built.emitSeconds, "verilator build" -> built.buildSeconds) ++
       (if (early.isDefined) Seq("waiting for the build" -> (t2 - t0) / 1e9) else Seq.empty) :+ ("simulation" -> secs(t2))
     val model = prep.model.frame

@@ -1,25 +1,30 @@
 package mapm.cli
 
-import java.nio.file.{Files, Paths}
-import mainargs.{ParserForMethods, arg, main}
+import java.nio.file.{Files, Path, Paths}
+import java.util.concurrent.Executors
+
+import scala.concurrent.{Await, ExecutionContext, Future}
+import scala.concurrent.duration.Duration
+
+import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cli.Args.rtlOptionsParser
-import mapm.sim.HarnessStats
+import mapm.model.Arith
 import mapm.params.MapmParams
 
 /** `mapm sweep`: a design-space sweep over TSM/SOM/SOA configurations (default: the 24 of Table
   * 4.8) on one scene through the RTL ([[RtlRun]]: the model side runs once, each configuration is
   * emitted, verilated and run with its cached builds). Every run is checked like `render`'s.
   *
-  * Writes `<scene>-sweep.csv` (one row per configuration: cycles, SO/cycle, TS ops/cycle, speed-up
-  * over the first configuration, hit rate per cache, GB/s, simulation wall time and simulated cycles
-  * per second, result) and two bar charts
-  * in the style of Figures 4.9 and 4.12: `<scene>-sweep-so-per-cycle.png` and
-  * `<scene>-sweep-speedup.png`. */
+  * Runs `--jobs` configurations at once, or each as a task of a Slurm job array (`--slurm`,
+  * [[Slurm]]). Each run leaves `result.json` and `stats.json` in its folder; the CSV and charts
+  * are made from those files alone ([[SweepReport]]): `<scene>-sweep.csv` (cycles, SO/cycle, TS
+  * ops/cycle, speed-up, billion SO/s at the clock, area and power by the dissertation's method,
+  * throughput per area and per power, bytes, GB/s, hit rates, simulation speed, verdict) and the
+  * charts of Figures 4.9-4.20 grouped by TSM count. */
 object SweepCommand extends Command {
   val name = "sweep"
-  val summary = "design-space sweep over TSM/SOM/SOA configurations through the RTL: CSV and charts"
-  val caches: Seq[String] = Seq("tsL1", "tsL2", "soq", "sopL1", "sopL2")
+  val summary = "design-space sweep over TSM/SOM/SOA configurations through the RTL: CSV with cost, charts; local jobs or Slurm"
 
   /** "1/1/2,2/1/2" into triples; a [[MapmError]] naming a bad entry. */
   def parseConfigs(s: String): Seq[(Int, Int, Int)] =
@@ -30,55 +35,124 @@ object SweepCommand extends Command {
       }
     }
 
+  /** `--clock`: None (fmax with cost, else the harness's --clock-ghz), `fmax`, or GHz. */
+  def parseClock(s: Option[String]): Option[Double] = s.filterNot(_ == "fmax").map { v =>
+    val ghz = v.toDoubleOption.getOrElse(MapmError.fail(s"sweep: --clock takes GHz or 'fmax', got '$v'"))
+    MapmError.check(ghz > 0 && ghz <= 20, s"sweep: --clock must be in (0, 20] GHz, got $ghz")
+    ghz
+  }
+
+  /** The arguments this command was started with (for the Slurm tasks, which rerun it). */
+  @volatile private var rawArgs: Seq[String] = Seq.empty
+
   @main
   def sweep(
       @arg(doc = "configurations TSM/SOM/SOA, comma separated (default: the 24 of Table 4.8)") configs: Option[String] = None,
+      @arg(doc = "clock of the throughput, power and GB/s figures: GHz, or 'fmax' (the slower unit's, from the cost flow; the default)") clock: Option[String] = None,
+      @arg(doc = "leave out the area and power columns (no cost flow; the clock is then --clock or --clock-ghz)") noCost: Flag,
+      @arg(doc = "configurations run at once on this machine (default: the cores)") jobs: Int = Runtime.getRuntime.availableProcessors,
+      @arg(doc = "run each configuration as a task of a Slurm job array and wait for the merged result (docs/cluster.md)") slurm: Flag,
+      @arg(doc = "Slurm partition for --slurm (default: the cluster's)") partition: Option[String] = None,
+      @arg(doc = "internal: run configuration N of the list alone (a Slurm array task)") task: Option[Int] = None,
+      @arg(doc = "internal: merge the configurations' results into the CSV and charts (the Slurm collect step)") collect: Flag,
       opts: RtlOptions
   ): Int = {
     val list = configs.map(parseConfigs).getOrElse(MapmParams.table48Configs)
     MapmError.check(list.nonEmpty, "sweep: no configurations given")
-    val harness = opts.harness()
+    MapmError.check(list.distinct.size == list.size, s"sweep: a configuration is listed twice in --configs")
+    MapmError.check(jobs >= 1 && jobs <= 256, s"sweep: --jobs must be 1..256, got $jobs")
+    MapmError.check(partition.isEmpty || slurm.value, "sweep: --partition applies to --slurm runs only")
+    MapmError.check(!(slurm.value && (task.isDefined || collect.value)), "sweep: --slurm submits the tasks; --task and --collect are the tasks' own")
+    val fixedClock = parseClock(clock)
+    MapmError.check(!(noCost.value && clock.contains("fmax")), "sweep: --clock fmax needs the cost flow (drop --no-cost, or give GHz)")
+    val work = workDir(opts)
+    val log: String => Unit = l => System.err.println(s"mapm: $l")
+    task match {
+      case Some(i) =>
+        MapmError.check(i >= 0 && i < list.size, s"sweep: --task $i is outside the ${list.size} configurations")
+        runTask(opts, list(i), work.resolve("tasks").resolve(i.toString), work, log)
+        0
+      case None if slurm.value =>
+        // The model once here first: a scene or configuration error stops before anything is submitted.
+        opts.setup(list)
+        val taskArgs = Slurm.strip(rawArgs, Set("--slurm"), Set("--partition", "--jobs"))
+        val rc = Slurm.run(name, taskArgs, list.size, partition, work.resolve("slurm"), log)
+        if (rc != 0) MapmError.fail(s"sweep: the Slurm collect step ended with exit status $rc (logs in ${work.resolve("slurm")})")
+        0
+      case None =>
+        if (!collect.value) runLocal(opts, list, jobs, work, log)
+        report(opts, list, work, fixedClock, !noCost.value, log)
+    }
+  }
+
+  /** The sweep's work folder (as [[RtlRun.setup]] names it). */
+  def workDir(opts: RtlOptions): Path =
+    Paths.get(opts.out).resolve(ModelRun.sceneName(Paths.get(opts.scene)) + (if (opts.arith == Arith.Online) "" else "-conv") + "-rtl")
+
+  /** Runs the configurations `jobs` at a time on a frame prepared once; each leaves its result file. */
+  def runLocal(opts: RtlOptions, list: Seq[(Int, Int, Int)], jobs: Int, work: Path, log: String => Unit): Unit = {
     val RtlRun.Setup(params, prep) = opts.setup(list)
-    println(s"sweep of ${params.size} configurations on ${prep.config.file}: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops" +
+    println(s"sweep of ${params.size} configurations on ${prep.config.file}, $jobs at once: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops" +
       (if (opts.fidelity == mapm.params.Fidelity.Timing) "; SOAs as timing models (cycle-exact; colours from the model, not checked)" else ""))
+    val pool = Executors.newFixedThreadPool(math.min(jobs, params.size))
+    implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
+    try {
+      val runs = params.zip(list).map { case (p, c) =>
+        Future(runOne(prep, p, c, opts, work, if (jobs == 1) log else (l: String) => log(s"[${p.counts.label}] $l"), progress = jobs == 1))
+      }
+      runs.foreach(Await.result(_, Duration.Inf))
+    } finally pool.shutdown()
+  }
+
+  /** One configuration on a prepared frame: runs it, prints its line, writes its result file. */
+  private def runOne(prep: RtlRun.Prepared, p: MapmParams, c: (Int, Int, Int), opts: RtlOptions, work: Path, log: String => Unit,
+                     progress: Boolean): Unit = {
+    val dir = SweepReport.configDir(work, c)
+    val r = RtlRun.runConfig(prep, p, opts.harness(), dir, log, progress)
+    val s = r.outcome.stats
     def orNaN(v: Option[Double]): Double = v.getOrElse(Double.NaN)
-    val runs = params.map { p =>
-      val dir = prep.work.resolve(s"sweep-${p.counts.tsm}-${p.counts.som}-${p.counts.soaPerSom}")
-      val r = RtlRun.runConfig(prep, p, harness, dir, l => System.err.println(s"mapm: $l"))
-      val s = r.outcome.stats
-      println(f"${p.counts.label}%-8s ${if (r.passed) "PASS" else "FAIL"} cycles ${orNaN(s.map(_.cycles.toDouble))}%.0f " +
-        f"SO/cycle ${orNaN(s.map(_.soPerCycle))}%.3f TS ops/cycle ${orNaN(s.flatMap(_.tsOpsPerCycle))}%.3f " +
-        f"simulated ${orNaN(s.map(_.simulatedCyclesPerSecond))}%.0f cycles/s${if (r.passed) "" else ": " + r.failure}")
-      r
-    }
-    def cycles(r: RtlRun.ConfigRun): Option[Long] = r.outcome.stats.map(_.cycles)
-    def cell(v: Option[Double]): String = v.filter(x => !x.isNaN).map(x => f"$x%.6g").getOrElse("")
-    def stat(r: RtlRun.ConfigRun)(field: HarnessStats => Double): String = cell(r.outcome.stats.map(field))
-    val speedups = runs.map(r => for (b <- cycles(runs.head); c <- cycles(r) if c > 0) yield b.toDouble / c)
-    val header = (Seq("config", "tsm", "som", "soa", "cycles", "so_per_cycle", "ts_ops_per_cycle", "speedup") ++
-      caches.map(c => s"hit_rate_$c") ++ Seq("gb_per_s", "sim_wall_s", "sim_cycles_per_s", "fidelity", "result")).mkString(",")
-    val rows = runs.zip(speedups).map { case (r, sp) =>
-      (Seq(r.p.counts.label, r.p.counts.tsm.toString, r.p.counts.som.toString, r.p.counts.soaPerSom.toString,
-        cycles(r).map(_.toString).getOrElse(""), stat(r)(_.soPerCycle), cell(r.outcome.stats.flatMap(_.tsOpsPerCycle)), cell(sp)) ++
-        caches.map(c => cell(r.outcome.stats.flatMap(_.caches.get(c)).map(_.hitRate))) ++
-        Seq(stat(r)(_.gbPerSecond), stat(r)(_.wallSeconds), stat(r)(_.simulatedCyclesPerSecond), r.p.sim.fidelity.name, if (r.passed) "PASS" else "FAIL")).mkString(",")
-    }
+    println(f"${p.counts.label}%-8s ${if (r.passed) "PASS" else "FAIL"} cycles ${orNaN(s.map(_.cycles.toDouble))}%.0f " +
+      f"SO/cycle ${orNaN(s.map(_.soPerCycle))}%.3f TS ops/cycle ${orNaN(s.flatMap(_.tsOpsPerCycle))}%.3f " +
+      f"simulated ${orNaN(s.map(_.simulatedCyclesPerSecond))}%.0f cycles/s${if (r.passed) "" else ": " + r.failure}")
+    SweepReport.writeResult(dir, SweepReport.TaskResult(p.counts.label, c._1, c._2, c._3, r.passed, if (r.passed) "" else r.failure, r.times))
+  }
+
+  /** A Slurm array task: prepares the frame in its own folder (the model is deterministic; no task
+    * writes another's files) and runs one configuration into the shared work folder. */
+  def runTask(opts: RtlOptions, c: (Int, Int, Int), own: Path, work: Path, log: String => Unit): Unit = {
+    val RtlRun.Setup(Seq(p), prep) = opts.copy(out = own.toString).setup(Seq(c))
+    runOne(prep, p, c, opts, work, log, progress = false)
+  }
+
+  /** The CSV and charts from the configurations' result files; fails when any configuration failed. */
+  def report(opts: RtlOptions, list: Seq[(Int, Int, Int)], work: Path, fixedClock: Option[Double], withCost: Boolean,
+             log: String => Unit): Int = {
+    val rows = list.map(SweepReport.readRow(work, _))
+    val cost = if (!withCost) None else Some(unitCost(opts, fixedClock, log))
+    val clockGHz = cost.map(_.clockGHz).getOrElse(fixedClock.getOrElse(opts.clockGhz))
+    cost.foreach(c => println(f"cost: ${c.soa.top} ${c.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${c.soa.fmaxGHz}%.3f GHz; ${c.tsa.top} " +
+      f"${c.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${c.tsa.fmaxGHz}%.3f GHz; clock ${c.clockGHz}%.3f GHz (${c.clockSource})"))
+    val name = work.getFileName.toString.stripSuffix("-rtl")
     val outDir = Paths.get(opts.out)
     Files.createDirectories(outDir)
-    val csv = outDir.resolve(s"${prep.name}-sweep.csv")
-    Files.write(csv, (header +: rows).mkString("", "\n", "\n").getBytes("UTF-8"))
-    val labels = runs.map(_.p.counts.label)
-    val soChart = outDir.resolve(s"${prep.name}-sweep-so-per-cycle.png")
-    BarChart.write(soChart, s"Shader operations per cycle (${prep.name}, ${prep.frame.format})", "SO / cycle",
-      labels.zip(runs.map(r => orNaN(r.outcome.stats.map(_.soPerCycle)))))
-    val spChart = outDir.resolve(s"${prep.name}-sweep-speedup.png")
-    BarChart.write(spChart, s"Speed-up over ${labels.head} (${prep.name})", "speed-up", labels.zip(speedups.map(_.getOrElse(Double.NaN))))
-    Seq(csv, soChart, spChart).foreach(f => println(s"wrote $f"))
-    val failed = runs.filterNot(_.passed)
-    if (failed.nonEmpty) MapmError.fail(s"sweep: ${failed.size} of ${runs.size} configurations failed: " +
-      failed.map(r => s"${r.p.counts.label} (${r.failure})").mkString("; "))
+    val csv = outDir.resolve(s"$name-sweep.csv")
+    Files.write(csv, SweepReport.csv(rows, cost, clockGHz).getBytes("UTF-8"))
+    val charts = SweepReport.charts(outDir, name, name, rows, cost, clockGHz)
+    (csv +: charts).foreach(f => println(s"wrote $f"))
+    val failed = rows.filterNot(_.passed)
+    if (failed.nonEmpty) MapmError.fail(s"sweep: ${failed.size} of ${rows.size} configurations failed: " +
+      failed.map(r => s"${r.label} (${r.result.failure})").mkString("; "))
     0
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  /** The SOA's and TSA's figures in the sweep's format, g and arithmetic, and the clock: `fixed`, or the slower unit's fmax. */
+  def unitCost(opts: RtlOptions, fixed: Option[Double], log: String => Unit): SweepReport.Cost = {
+    val fmt = opts.format.orElse(ModelRun.loadScene(opts.scene).format).getOrElse(mapm.model.FloatFormat.fp32)
+    val soa = UnitCostCache.get("soa", fmt, opts.g, opts.arith, log)
+    val tsa = UnitCostCache.get("tsa", fmt, opts.g, opts.arith, log)
+    val fmax = math.min(soa.fmaxGHz, tsa.fmaxGHz)
+    SweepReport.Cost(soa, tsa, fixed.getOrElse(fmax), if (fixed.isDefined) "--clock" else s"fmax of the slower unit, the ${if (soa.fmaxGHz <= tsa.fmaxGHz) "SOA" else "TSA"}")
+  }
+
+  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(ParserForMethods(this), args, name) }
 }

@@ -93,6 +93,8 @@ object SceneConfig {
 
     val objRel = r.str(top.getOrElse("obj", r.missing("obj")), "obj")
     val objFile = Option(path.toAbsolutePath.getParent).fold(Path.of(objRel))(_.resolve(objRel)).normalize()
+    if (!Files.isRegularFile(objFile)) r.fail("obj", s"OBJ file $objFile not found" +
+      (if (objRel.contains("shared/")) " (a shared model, read in place and never copied into the project: is ../shared beside the checkout?)" else ""))
 
     val cam = r.obj(top.getOrElse("camera", r.missing("camera")), "camera", Set("position", "lookAt", "direction", "up", "fov"))
     val position = r.vec(cam.getOrElse("position", r.missing("camera.position")), "camera.position")

@@ -62,25 +62,26 @@ object Harness {
       s"trace=$trace threads=$threads" :+ Verilator.optFlags.mkString(" ")): _*)
     val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}-$hash")
     val exe = dir.resolve("harness")
-    if (fresh) deleteTree(dir)
+    if (fresh) AtomicDir.delete(dir)
     else if (Files.isExecutable(exe)) return exe
-    Files.createDirectories(dir)
-    Files.write(dir.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
-    val fileList = dir.resolve("files.f")
-    val config = dir.resolve("no-inline.vlt")
-    Files.write(config, vlt.getBytes(UTF_8))
-    Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
+    else AtomicDir.delete(dir) // a build of an older version that stopped half-way (they were not atomic)
     log(s"verilating $top into $dir (cached for later runs) ...")
     val t0 = System.nanoTime()
-    val flags = Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${dir.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
-      (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
-    Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, dir, "harness", flags, ccache = !fresh)
+    // Built in a private folder and renamed into place: concurrent builds of one configuration
+    // (local jobs, Slurm array tasks) never see each other's half-built files.
+    AtomicDir.create(dir) { tmp =>
+      Files.write(tmp.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
+      val fileList = tmp.resolve("files.f")
+      val config = tmp.resolve("no-inline.vlt")
+      Files.write(config, vlt.getBytes(UTF_8))
+      Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
+      val flags = Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${tmp.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
+        (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
+      Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, tmp, "harness", flags, ccache = !fresh)
+    }
     log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     exe
   }
-
-  private def deleteTree(dir: Path): Unit = if (Files.exists(dir))
-    Files.walk(dir).iterator.asScala.toSeq.reverse.foreach(Files.delete)
 
   /** Modules Verilator must keep as their own classes rather than inline: the replicated units,
     * SOA and TSA (and their conventional counterparts ConvSOA, ConvTSA), and the TSM and SOM that

@@ -14,7 +14,8 @@ import scala.jdk.CollectionConverters._
 object MapmRtl {
   def topName(p: MapmParams): String = s"Mapm_${p.name}"
 
-  private def hardwareSourceHash: String = {
+  /** A hash of the hardware generator sources (everything under src/main/scala/mapm but the model, CLI and simulation code). */
+  def hardwareSourceHash: String = {
     val src = Harness.root.resolve("src/main/scala/mapm")
     val skip = Set("model", "cli", "sim").map(src.resolve)
     val files = Files.walk(src).iterator.asScala
@@ -22,17 +23,19 @@ object MapmRtl {
     Verilator.hash(files.map(f => src.relativize(f).toString + new String(Files.readAllBytes(f), UTF_8)): _*)
   }
 
-  /** The directory of `p`'s emitted SystemVerilog (emitting it on a cache miss) and its top module. */
+  /** The directory of `p`'s emitted SystemVerilog (emitting it on a cache miss, into place in one
+    * step: [[AtomicDir]]) and its top module. */
   def emit(p: MapmParams, log: String => Unit = _ => ()): (Path, String) = {
     val top = topName(p)
     val dir = Harness.root.resolve("target/emit").resolve(s"$top-${Verilator.hash(p.toString, hardwareSourceHash)}")
-    val stamp = dir.resolve(".complete")
-    if (!Files.isRegularFile(stamp)) {
+    if (!Files.isRegularFile(dir.resolve(s"$top.sv"))) {
+      AtomicDir.delete(dir) // an emit of an older version that stopped half-way (they were not atomic)
       log(s"emitting $top ...")
       val t0 = System.nanoTime()
-      Emit.toFile(new Mapm(p), dir, s"$top.sv")
-      Files.write(dir.resolve("mapm_config.h"), HarnessHeader(p).getBytes(UTF_8))
-      Files.write(stamp, Array.emptyByteArray)
+      AtomicDir.create(dir) { tmp =>
+        Emit.toFile(new Mapm(p), tmp, s"$top.sv")
+        Files.write(tmp.resolve("mapm_config.h"), HarnessHeader(p).getBytes(UTF_8))
+      }
       log(f"emitted in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     }
     (dir, top)

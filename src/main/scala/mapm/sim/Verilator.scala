@@ -41,7 +41,10 @@ object Verilator {
       svFiles.map(_.toString) :+ harness.toString
     val hasCcache = ccache && sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator)
       .exists(d => Files.isExecutable(java.nio.file.Paths.get(d, "ccache")))
-    val env = if (hasCcache) Seq("OBJCACHE" -> "ccache") else Seq("CCACHE_DISABLE" -> "1")
+    // Paths under `dir` reach ccache relative to it, so a build in a fresh folder (AtomicDir's
+    // private name) still hits the cache of an earlier one.
+    val env = if (hasCcache) Seq("OBJCACHE" -> "ccache", "CCACHE_BASEDIR" -> dir.toAbsolutePath.toString, "CCACHE_NOHASHDIR" -> "1")
+      else Seq("CCACHE_DISABLE" -> "1")
     val log = new StringBuilder
     val rc = Process(cmd, dir.toFile, env: _*).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
     if (rc != 0 || !Files.isExecutable(exe)) {

@@ -61,6 +61,7 @@ class CliWalkSpec extends AnyFunSuite {
     case "arith" => Seq("quantum")
     case "layout" => Seq("tight")
     case "fidelity" => Seq("approximate")
+    case "geometry" => Seq("abc", "0", "16K/x/2", "16K/32/0", "16K/32/2/1", "15K")
     case _ => Seq(unwritable)
   }
 

@@ -23,7 +23,7 @@ class MapmLintSpec extends AnyFunSuite {
     MapmParams.presets("2/3/2"),
     MapmParams.of(1, 1, 2, FloatFormat.fp32, 3),
     MapmParams.of(3, 2, 3, FloatFormat.fp16, 2),
-    MapmParams.of(2, 3, 1, FloatFormat.bf16, 0, registerQueueDepth = Some(26)),
+    MapmParams.of(2, 3, 1, FloatFormat.bf16, 0, tuning = mapm.params.Tuning(registerQueueDepth = Some(26))),
     MapmParams.of(1, 1, 1, FloatFormat(6, 9), 3),
     MapmParams.of(1, 1, 2, FloatFormat.fp16, 3, layout = SlotLayout.Wide),
     MapmParams.of(1, 1, 1, FloatFormat.fp64, 3))

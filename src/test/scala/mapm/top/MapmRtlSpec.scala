@@ -140,7 +140,7 @@ class MapmRtlSpec extends AnyFunSuite {
     assert(prep.model.tsOps == prep.frame.querySet.size.toLong * nonLeaf, "every non-leaf node is searched for every query")
     assert(prep.model.count == prep.frame.querySet.size.toLong * 1000, "every photon is an SO of every query")
     // The smallest bank the parameters allow: 26 entries, of which K = 10 are the depth reserve.
-    val minimal = MapmParams.of(1, 1, 1, FloatFormat.fp32, 3, registerQueueDepth = Some(26))
+    val minimal = MapmParams.of(1, 1, 1, FloatFormat.fp32, 3, tuning = mapm.params.Tuning(registerQueueDepth = Some(26)))
     val stats = check(prep, minimal, stress, Seq(13L)) ++ check(prep, MapmParams.of(2, 1, 2, FloatFormat.fp32, 3), stress, Seq(14L))
     val peaks = stats.map(_.counters("rqPeak"))
     assert(peaks.head <= 26 && peaks.head >= 16, s"the minimal bank filled up to ${peaks.head} of 26")

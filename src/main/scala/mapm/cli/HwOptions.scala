@@ -1,0 +1,28 @@
+package mapm.cli
+
+import mainargs.{arg, main}
+import mapm.params.{CacheSpec, Tuning}
+import Args.CacheSpecReader
+
+/** The hardware sizes Table 4.2 and the design space vary, shared by `emit`, `render`, `sweep` and
+  * `evaluate` (each takes it as one parameter; mainargs lists its flags with the command's own).
+  * Every one left out keeps the default of [[mapm.params.MapmParams.of]]. The memory's latency
+  * and bandwidth belong to the harness's memory model, not to the RTL: `render`, `sweep` and
+  * `evaluate` take them as `--latency` and `--bandwidth`. */
+@main
+final case class HwOptions(
+    @arg(doc = "entries of each TSM's Register-queue bank (default 256)") rqDepth: Option[Int] = None,
+    @arg(doc = "reservation-station entries per SOM (default 8 per SOA)") rsEntries: Option[Int] = None,
+    @arg(name = "ts-l1", doc = "TS L1 per TSM, SIZE[/LINE[/WAYS]] (default 16K/32/2; WAYS may be 'full')") tsL1: Option[CacheSpec] = None,
+    @arg(name = "ts-l2", doc = "shared TS L2 (default 256K/64/full)") tsL2: Option[CacheSpec] = None,
+    @arg(doc = "SOQ query cache (default 16K/32/1)") soq: Option[CacheSpec] = None,
+    @arg(name = "sop-l1", doc = "SOP L1 per SOM, split into one bank per SOA (default 64K/32/2)") sopL1: Option[CacheSpec] = None,
+    @arg(name = "sop-l2", doc = "shared SOP L2 (default 512K/64/full)") sopL2: Option[CacheSpec] = None,
+    @arg(doc = "requests in flight at once on the memory port (default 64)") memOutstanding: Option[Int] = None) {
+
+  def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
+    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding)
+
+  /** The same overrides as command-line words, for commands that hand them on (Slurm array tasks). */
+  def words: Seq[String] = tuning.describe.flatMap { w => val Array(k, v) = w.split("=", 2); Seq(s"--$k", v) }
+}

@@ -1,0 +1,60 @@
+package mapm.cli
+
+import java.nio.charset.StandardCharsets.UTF_8
+import java.nio.file.{Files, Path}
+
+import mapm.MapmError
+import mapm.model.{Arith, FloatFormat}
+import mapm.sim.{AtomicDir, Harness, MapmRtl, Verilator}
+
+/** The SOA's and TSA's cost figures for cost-aware sweeps, by the dissertation's method (Table
+  * 4.9: unit figures times counts). Each unit goes through the cost flow ([[CostFlow]], the same
+  * defaults as `tools/mapm cost --unit soa|tsa`) once per format, guard digits and arithmetic, and
+  * the result is kept under `target/cost-units/<top>-<hash>/cost.json`; the hash covers the flow's
+  * settings and the generator and cost-flow sources, so a sweep, its later runs and `evaluate`
+  * never synthesize the same unit twice. The operations come from the default scene's frame
+  * (the Table 4.8 Cornell box) in the format, or seeded random ones where the format cannot hold
+  * that frame. */
+object UnitCostCache {
+  /** What a sweep needs of a unit: fmax, area, dynamic energy per cycle at its measured activity, leakage. */
+  final case class Figures(unit: String, top: String, fmaxGHz: Double, areaUm2: Double, dynamicPjPerCycle: Double,
+                           leakageMw: Double, stimulus: String, file: Path) {
+    def dynamicMwAt(ghz: Double): Double = dynamicPjPerCycle * ghz
+  }
+
+  /** The flow settings (as `cost --unit` defaults them). */
+  val ops = 32768
+  val seed = 1L
+  private val costSources = Seq("CostFlow.scala", "CostUnits.scala", "GateLevel.scala")
+
+  /** The cached figures of `unit` (soa or tsa), running the flow on a miss (minutes: the fp32 SOA about 8). */
+  def get(unit: String, format: FloatFormat, g: Int, arith: Arith, log: String => Unit): Figures = {
+    MapmError.check(unit == "soa" || unit == "tsa", s"cost: unit costs of a sweep are soa or tsa, got '$unit'")
+    val cu = CostUnits(unit, format, g, mapm.params.NumberParams.DefaultFpuStageWeight, arith)
+    val cli = Harness.root.resolve("src/main/scala/mapm/cli")
+    val sources = costSources.map(f => f + new String(Files.readAllBytes(cli.resolve(f)), UTF_8))
+    val key = Verilator.hash((Seq(cu.top, unit, format.toString, g.toString, arith.name, CostFlow.defaultClocks.mkString(","), "both",
+      ops.toString, seed.toString, RenderCommand.defaultScene, MapmRtl.hardwareSourceHash) ++ sources): _*)
+    val dir = Harness.root.resolve("target/cost-units").resolve(s"${cu.top}-$key")
+    if (!Files.isRegularFile(dir.resolve("cost.json"))) {
+      AtomicDir.delete(dir)
+      log(s"cost of the $unit ${cu.top} through the cost flow (once; cached in $dir) ...")
+      AtomicDir.create(dir) { tmp =>
+        val frame = try Some(CostFlow.frame(Harness.root.resolve(RenderCommand.defaultScene).toString, format)) catch { case _: MapmError => None }
+        val source = if (frame.isDefined) s"SOs/TS ops of ${RenderCommand.defaultScene}" else s"random operations (seed $seed)"
+        val flow = CostFlow(None, CostFlow.defaultClocks, "both", tmp)
+        val online = arith == Arith.Online
+        flow.unit(cu, format, if (unit == "soa" && online) Some(g) else None, CostUnits.ops(cu, format, g, frame, ops, seed, arith), seed, source)
+      }
+    }
+    read(unit, dir.resolve("cost.json"))
+  }
+
+  /** Reads a unit's `cost.json` (as [[mapm.cost.UnitCost.json]] writes it). */
+  def read(unit: String, file: Path): Figures = {
+    val j = try ujson.read(Files.readAllBytes(file)) catch { case e: Exception => MapmError.fail(s"$file: not a unit cost report (${e.getMessage})") }
+    try Figures(unit, j("top").str, j("fmaxGHz").num, j("areaUm2").num, j("atFmax")("dynamicPjPerCycle").num,
+      j("atFmax")("leakagePowerMw").num, j("activity")("source").str, file)
+    catch { case e: NoSuchElementException => MapmError.fail(s"$file: not a unit cost report (${e.getMessage})") }
+  }
+}
