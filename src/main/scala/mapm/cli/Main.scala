@@ -24,6 +24,7 @@ object Main {
   val commands: Seq[Command] = Seq(
     RenderCommand,
     SweepCommand,
+    EvaluateCommand,
     ModelCommand,
     FormatCommand,
     KdtreeCommand,

@@ -63,6 +63,7 @@ object SweepCommand extends Command {
     MapmError.check(jobs >= 1 && jobs <= 256, s"sweep: --jobs must be 1..256, got $jobs")
     MapmError.check(partition.isEmpty || slurm.value, "sweep: --partition applies to --slurm runs only")
     MapmError.check(!(slurm.value && (task.isDefined || collect.value)), "sweep: --slurm submits the tasks; --task and --collect are the tasks' own")
+    opts.harness() // checks the memory model's options before any work
     val fixedClock = parseClock(clock)
     MapmError.check(!(noCost.value && clock.contains("fmax")), "sweep: --clock fmax needs the cost flow (drop --no-cost, or give GHz)")
     val work = workDir(opts)

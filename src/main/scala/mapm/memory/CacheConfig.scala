@@ -37,7 +37,7 @@ final case class CacheConfig(
     downBytes: Int = 16,
     mshrs: Int = 4,
     targets: Int = 8,
-    maxWays: Int = 16,
+    maxWays: Int = CacheParams.MaxWays,
     counterBits: Int = 40,
     hashSets: Boolean = false,
     interleave: Int = 1
@@ -96,7 +96,7 @@ object CacheConfig {
   /** A cache below `upper` (an L2 under an L1, or under an arbiter of L1s): its client word is the
     * upper port's single beat (the L1 line) and its client id is the upper port's id. */
   def below(upper: MemPortParams, geometry: CacheParams, downBytes: Int = 16, mshrs: Int = 8,
-            targets: Int = 16, maxWays: Int = 16): CacheConfig = {
+            targets: Int = 16, maxWays: Int = CacheParams.MaxWays): CacheConfig = {
     require(upper.maxBeats == 1, s"a cache serves single-beat requests; the upper port asks for up to ${upper.maxBeats} beats")
     CacheConfig(geometry, upper.dataBytes, upper.idBits, upper.addressBits, downBytes, mshrs, targets, maxWays)
   }

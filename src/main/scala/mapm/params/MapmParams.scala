@@ -26,12 +26,24 @@ final case class CacheParams(
   require(sizeBytes >= lineBytes && sizeBytes % lineBytes == 0, s"cache size $sizeBytes must be a positive multiple of the line size $lineBytes")
   require(ways >= 1 && lines % ways == 0, s"cache ways $ways must divide the line count $lines")
   require(isPow2(sets), s"cache set count must be a power of two, got $sets (size $sizeBytes, line $lineBytes, ways $ways)")
+  require(lines >= 2, s"cache must hold at least two lines, got $lines (size $sizeBytes, line $lineBytes)")
+  require(isPow2(hwWays) && isPow2(lines / hwWays), s"cache of $lines lines, ${if (fullyAssociative) "fully associative" else s"$ways-way"}: " +
+    s"the hardware builds at most ${CacheParams.MaxWays} power-of-two ways over a power-of-two set count (size $sizeBytes, line $lineBytes)")
+
+  /** The ways the hardware builds: at most [[CacheParams.MaxWays]]; a higher associativity (fully
+    * associative included) is built as that many ways over a hashed set index (docs/memory-port.md). */
+  def hwWays: Int = math.min(ways, CacheParams.MaxWays)
 
   /** Number of lines and of sets. */
   def lines: Int = sizeBytes / lineBytes
   def sets: Int = lines / ways
   def fullyAssociative: Boolean = sets == 1
   def describe: String = s"${sizeBytes / 1024} KiB, $lineBytes B lines, ${if (fullyAssociative) "fully associative" else s"$ways-way"}"
+}
+
+object CacheParams {
+  /** The most ways the hardware's caches build (their pseudo-LRU tree and tag compare). */
+  val MaxWays: Int = 16
 }
 
 /** A cache geometry asked for on the command line, `SIZE[/LINE[/WAYS]]` (e.g. `32K/32/4`,
@@ -145,6 +157,8 @@ final case class NumberParams(
 ) {
   require(guardDigits >= 0 && guardDigits <= 8, s"guard digits must be 0..8, got $guardDigits")
   require(fpuStageWeight >= 0.5 && fpuStageWeight <= 100, s"FPU logic per stage must be 0.5..100, got $fpuStageWeight")
+  require(arith != Arith.Online || format.manWidth >= 4,
+    s"the online SOA needs at least 4 fraction bits (n >= 5), format $format has ${format.manWidth}")
 }
 
 object NumberParams {

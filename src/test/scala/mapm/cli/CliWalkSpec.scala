@@ -32,7 +32,8 @@ class CliWalkSpec extends AnyFunSuite {
     case "model" | "bench-model" => Seq("scene" -> small, "out" -> s"$work/out", "threads" -> "1")
     case "kdtree" => Seq("photons" -> "test-scenes/table-3-1/photons.csv")
     case "bench-search" => Seq("photons" -> "500", "queries" -> "50", "repeat" -> "1", "warmup" -> "0", "threads" -> "1")
-    case "emit" => Seq("tsm" -> "1", "som" -> "1", "soa" -> "1", "format" -> "4,3", "out" -> s"$work/emit")
+    case "emit" => Seq("tsm" -> "1", "som" -> "1", "soa" -> "1", "format" -> "5,4", "out" -> s"$work/emit")
+    case "evaluate" => Seq("quick" -> "", "out" -> s"$work/out", "results" -> s"$work/results.md")
     case "emit-tsa" => Seq("format" -> "4,3", "out" -> s"$work/emit-tsa")
     case "emit-soa" => Seq("format" -> "4,4", "out" -> s"$work/emit-soa")
     case "tsa-vectors" => Seq("in" -> tsaIn.toString, "format" -> "fp16")
@@ -90,7 +91,7 @@ class CliWalkSpec extends AnyFunSuite {
     val problems = for {
       (name, tpe) <- opts
       v <- badValues(tpe)
-      args = (base(cmd.name).filter(_._1 != name) :+ (name -> v)).flatMap { case (k, x) => Seq(s"--$k", x) }
+      args = (base(cmd.name).filter(_._1 != name) :+ (name -> v)).flatMap { case (k, "") => Seq(s"--$k"); case (k, x) => Seq(s"--$k", x) }
       problem <- attempt(cmd, args) match {
         case Left(what) => Some(s"--$name $v: $what")
         case Right(msg) if msg.contains('\n') => Some(s"--$name $v: a message of more than one line: $msg")
