@@ -1,0 +1,67 @@
+package mapm.cli
+
+import java.nio.file.{Files, Paths}
+
+import mapm.sim.HarnessStats
+import org.scalatest.funsuite.AnyFunSuite
+
+/** The results page from given runs: every table of chapter 4 present, the dissertation's figures
+  * beside ours, ours derived from the runs' stats as the columns say (checked here by hand
+  * arithmetic on the inputs), and the charts on disk and linked. */
+class ResultsDocSpec extends AnyFunSuite {
+  /** A stats.json of `cycles` cycles, `so` SOs, `ts` TS ops, `bytes` fetched, `soqMisses` SOQ misses. */
+  private def stats(cycles: Long, so: Long, ts: Long, bytes: Long, soqMisses: Long): HarnessStats = {
+    val caches = SweepReport.caches.map(c => c -> ujson.Obj("hits" -> 900, "misses" -> ujson.Num((if (c == "soq") soqMisses else 100L).toDouble), "hitRate" -> 0.9))
+    HarnessStats.parse(ujson.write(ujson.Obj("top" -> "Mapm_test", "result" -> "PASS", "failure" -> ujson.Null, "seed" -> 1, "latency" -> 100,
+      "latencyMax" -> 100, "queryGap" -> 0, "reqStall" -> 0, "respGap" -> 0, "bandwidthBytesPerCycle" -> 14, "clockGHz" -> 1.5,
+      "cycles" -> ujson.Num((cycles).toDouble), "queries" -> 1000, "queriesCompleted" -> 1000, "soIssued" -> ujson.Num((so).toDouble), "soPassingCond" -> ujson.Num((so / 2).toDouble),
+      "soPerCycle" -> so.toDouble / cycles, "tsOps" -> ujson.Num((ts).toDouble), "tsOpsPerCycle" -> ts.toDouble / cycles, "stallCycles" -> ujson.Obj(),
+      "caches" -> ujson.Obj.from(caches), "memoryRequests" -> ujson.Num((bytes / 32).toDouble), "bytesFetched" -> ujson.Num((bytes).toDouble), "bytesPerCycle" -> bytes.toDouble / cycles,
+      "gbPerSecond" -> 0, "counters" -> ujson.Obj(), "wallSeconds" -> 1, "simulatedCyclesPerSecond" -> ujson.Num((cycles).toDouble))), "test")
+  }
+
+  test("evaluate's page: Tables 4.10, 4.8, 4.9, 4.11 and 4.13 side by side, ours from the runs, charts written and linked") {
+    val dir = Paths.get("target/results-doc-test")
+    mapm.sim.AtomicDir.delete(dir)
+    val ws = EvaluateCommand.workloads(quick = true)
+    assert(ws.map(_.configs) == Seq.fill(4)(Seq((4, 4, 2), (16, 16, 2))))
+    // ours: half the dissertation's cycles (2k: Table 4.8's; 8k: Table 4.11's), 12 SO per cycle, 3 TS ops per cycle, 2 bytes per cycle
+    def cyclesOf(key: String, c: (Int, Int, Int)): Long =
+      if (key == "cornell-2k") Dissertation.table48.find(_._1 == c).get._2 / 2
+      else Dissertation.table411(key)(Dissertation.table411Configs.indexOf(c))._1 / 2
+    val rows = ws.map(w => w -> w.configs.map { c =>
+      val cy = cyclesOf(w.key, c)
+      SweepReport.Row(c, SweepReport.TaskResult(s"${c._1}/${c._2}/${c._3}", c._1, c._2, c._3, passed = true, "", Seq.empty),
+        Some(stats(cy, 12 * cy, 3 * cy, 2 * cy, cy / 64)))
+    })
+    val unit = (u: String, area: Double, fmax: Double, pj: Double) =>
+      UnitCostCache.Figures(u, u.toUpperCase + "_x", fmax, area, pj, 0.5, "test", dir.resolve(s"$u.json"))
+    val cost = SweepReport.Cost(unit("soa", 6e6, 0.3, 300), unit("tsa", 0.25e6, 0.6, 2), 0.3, "fmax of the slower unit, the SOA")
+    val file = dir.resolve("results.md")
+    val files = ResultsDoc.write(file, rows, cost, mapm.params.Fidelity.Timing, quick = true, RtlOptions(), Some(123.0), 2)
+    val md = new String(Files.readAllBytes(file), "UTF-8")
+    for (t <- Seq("Table 4.10", "Table 4.8", "Table 4.9", "Table 4.11", "Table 4.13")) assert(md.contains(s"## $t"), t)
+    for (w <- ws.tail) assert(md.contains(s"### ${w.title}"))
+    // Table 4.8, 16/16/2: the dissertation's cycles and BSO/s, ours half the cycles, 12 SO/cycle = 18 BSO/s at 1.5 GHz, 3.6 at 0.3 GHz
+    assert(md.contains("| 16/16/2 | 476,341 | 238,170 | 0.500 | 26.012 | 18.000 | 3.600 |"), md)
+    // Table 4.9, 16/16/2: 32 SOAs x 6 mm^2 + 16 TSAs x 0.25 mm^2 = 196 mm^2; 3.6 BSO/s / 196 mm^2 = 18.367 MSO/s/mm^2;
+    // power 32 x (300 pJ x 0.3 GHz + 0.5) + 16 x (2 x 0.3 + 0.5) = 2,913.6 mW; 3.6 / 2.9136 = 1.236 BSO/s/W
+    assert(md.contains("| 16/16/2 | 26.012 | 19.619 | 1,325.813 | 976.64 | 26.634 | 3.600 | 196.000 | 18.367 | 2,913.6 | 1.236 |"), md)
+    // Table 4.11, Cornell 8k 4/4/2: half of 4,990,699 cycles
+    assert(md.contains("| 4/4/2 | 4,990,699 | 2,495,349 | 0.500 | 7.958 | 18.000 | 3.600 |"))
+    // Table 4.13: 2 bytes per cycle = 3 GB/s at 1.5 GHz, 0.6 at 0.3; the SOQ's misses x 32-byte lines over the bytes = 25 %
+    assert(md.contains("| Cornell box, 2k photons | 476,341 | 1,534,784 | 4.501 | 238,170 | 476,340 | 3.000 | 0.600 | 25 % |"), md)
+    val total = ws.map(w => cyclesOf(w.key, (16, 16, 2))).sum
+    assert(md.contains(f"| Total | 4,658,734 | 10,554,304 | 3.165 | $total%,d | ${2 * total}%,d | 3.000 | 0.600 | |"))
+    // the dissertation's implied TS-op rate, and ours
+    assert(md.contains("109,881,410 tree-search operations, done in 476,341 cycles at 16/16/2: 230.7 TS ops per cycle from 16 TSMs"))
+    assert(md.contains(": 714,510 in 238,170 cycles, 3.00 per cycle (at most 16)"))
+    assert(md.contains("(sic)") && md.contains("123 s wall with --jobs 2"))
+    assert(md.contains("the SOQ's misses are 25 % to 25 % of the bytes fetched at 16/16/2"))
+    // charts: four per workload, on disk and linked relative to the page; one CSV per workload
+    val pngs = files.filter(_.toString.endsWith(".png"))
+    assert(pngs.size == 16 && pngs.forall(f => Files.size(f) > 0))
+    for (f <- pngs) assert(md.contains(s"](results/${f.getFileName})"))
+    for (w <- ws) assert(Files.isRegularFile(dir.resolve(s"results/${w.key}-sweep.csv")))
+  }
+}
