@@ -45,7 +45,7 @@ object ResultsDoc {
     if (quick) line(s"This is the quick run: the ${EvaluateCommand.quickConfigs.map(label).mkString(" and ")} rows of each table alone. `tools/mapm evaluate` runs them all.")
     line()
     line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")
-    line(s"- Number format ${opts.format.map(_.toString).getOrElse("fp32")}, g = ${opts.g}, ${opts.arith} arithmetic; caches and queues as Table 4.2 (the defaults); memory latency ${opts.latency} cycles, ${opts.bandwidth} bytes/cycle.")
+    line(s"- Number format ${opts.format.map(_.toString).getOrElse("fp32")}, g = ${opts.g}, ${opts.arith} arithmetic; ${opts.hw.describe}; memory latency ${opts.latency} cycles, ${opts.bandwidth} bytes/cycle.")
     line(f"- Cost by the dissertation's method (Table 4.9: unit figures times counts), from our open flow (yosys, OpenSTA, OSU 0.18 um): ${cost.soa.top} ${cost.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.soa.fmaxGHz * 1000}%.0f MHz, ${cost.soa.dynamicPjPerCycle}%.0f pJ/cycle; ${cost.tsa.top} ${cost.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.tsa.fmaxGHz * 1000}%.0f MHz, ${cost.tsa.dynamicPjPerCycle}%.0f pJ/cycle (docs/cost.md).")
     line(f"- Throughput, power and GB/s of ours at **$clk%.3f GHz** (${cost.clockSource}) where a column says \"at fmax\"; at the dissertation's 1.5 GHz where it says so, to compare cycles alone. The dissertation's figures are at 90 nm and 1.5 GHz.")
     line()

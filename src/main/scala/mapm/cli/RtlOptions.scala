@@ -11,7 +11,8 @@ import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}
 
 /** The options `render` and `sweep` share ([[RtlRun]]): the scene and its number format, the
   * harness's memory model and limits ([[Harness.RunOptions]]), the output folder, the model's
-  * threads and the hardware sizes ([[HwOptions]]). Each command takes it as one parameter; mainargs lists its flags with the command's own. */
+  * threads and the hardware sizes ([[HwOptions]]). Each command takes it as one parameter;
+  * mainargs lists its flags with the command's own. */
 @main
 final case class RtlOptions(
     @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,

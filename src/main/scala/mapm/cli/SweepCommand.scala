@@ -93,7 +93,7 @@ object SweepCommand extends Command {
   /** Runs the configurations `jobs` at a time on a frame prepared once; each leaves its result file. */
   def runLocal(opts: RtlOptions, list: Seq[(Int, Int, Int)], jobs: Int, work: Path, log: String => Unit): Unit = {
     val RtlRun.Setup(params, prep) = opts.setup(list)
-    println(s"sweep of ${params.size} configurations on ${prep.config.file}, $jobs at once: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops" +
+    println(s"sweep of ${params.size} configurations on ${prep.config.file}, $jobs at once, ${opts.hw.describe}: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops" +
       (if (opts.fidelity == mapm.params.Fidelity.Timing) "; SOAs as timing models (cycle-exact; colours from the model, not checked)" else ""))
     val pool = Executors.newFixedThreadPool(math.min(jobs, params.size))
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
