@@ -145,6 +145,21 @@ object ResultsDoc {
       (if (shares.isEmpty) "." else f", and the SOQ's misses are ${shares.min * 100}%.0f %% to ${shares.max * 100}%.0f %% of the bytes fetched at 16/16/2 " +
         "(the last column of Table 4.13).") +
       " The dissertation counts every cache's misses times its block size in a Pin-based simulation (section 4.3.3) and does not say how its query records travel; ours are the bytes the RTL fetched.")
+    // The shared photon L2 takes one request per cycle: where the photon set outgrows the SOP L1 banks, it bounds the SO rate.
+    val photonBytes = MapmParams.default.records.photon.bytes
+    val l1Bank = MapmParams.default.sopL1Bank.sizeBytes
+    val l2 = for ((w, _) <- rows; x <- stats(w.key, c16); l1 <- x.caches.get("sopL1"); l2 <- x.caches.get("sopL2"))
+      yield (w, x, l1.hitRate, (l2.hits + l2.misses).toDouble / x.cycles)
+    if (l2.nonEmpty) {
+      line(s"- **The shared SOP L2's port.** Every SOP L1 miss goes to the one SOP L2, which takes one request per cycle (docs/memory-port.md). " +
+        s"At 16/16/2: " + l2.map { case (w, x, h1, a2) =>
+          f"${w.title}: SOP L1 hit rate ${h1 * 100}%.1f %%, ${a2}%.3f SOP L2 requests per cycle, ${x.soPerCycle}%.2f SO/cycle" }.mkString("; ") + ". " +
+        f"A photon record is $photonBytes bytes and each SOA's ${l1Bank / 1024} KiB SOP L1 bank holds every second photon: 2,000 photons put " +
+        f"${1000L * photonBytes / 1024.0}%.1f KiB in each bank, which fits, and 8,000 put ${4000L * photonBytes / 1024.0}%.0f KiB, which does not: " +
+        "with 8k photons the L1s miss, the L2's port runs at close to one request per cycle, and " +
+        "more SOMs add misses, not throughput. The dissertation's 8k figures keep scaling to 16/16/2; its cache model (section 4.1.3) sizes the " +
+        "caches but does not describe a port limit. `--sop-l1` and `--sop-l2` on `sweep` and `render` vary them.")
+    }
     line(f"- **Node and clock.** Our cells are OSU's 0.18 um library (typical corner, 1.8 V), not the dissertation's 90 nm; our units close at " +
       f"${cost.soa.fmaxGHz * 1000}%.0f MHz (SOA) and ${cost.tsa.fmaxGHz * 1000}%.0f MHz (TSA), not 1.5 GHz. Area and power per unit are therefore " +
       "far larger and throughput per area and per power far lower; the ratios between configurations are what carries over.")
