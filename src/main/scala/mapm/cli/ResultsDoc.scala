@@ -41,7 +41,7 @@ object ResultsDoc {
     line()
     line(s"Written by `tools/mapm evaluate${if (quick) " --quick" else ""}` (do not edit by hand; rerun it). " +
       s"${rows.map(_._2.size).sum} RTL runs on ${rows.size} workloads" +
-      wallSeconds.map(s => f", $s%.0f s wall with --jobs $jobs on a ${Runtime.getRuntime.availableProcessors}-core machine").getOrElse(" (merged from Slurm tasks)") + ".")
+      wallSeconds.map(s => f", $s%.0f s wall with --jobs $jobs on a ${Runtime.getRuntime.availableProcessors}-core machine").getOrElse(" (merged from their result files by --collect, as a Slurm run does)") + ".")
     if (quick) line(s"This is the quick run: the ${EvaluateCommand.quickConfigs.map(label).mkString(" and ")} rows of each table alone. `tools/mapm evaluate` runs them all.")
     line()
     line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")
