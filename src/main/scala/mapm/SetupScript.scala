@@ -6,6 +6,10 @@ import scala.sys.process._
 /** Asking `tools/setup.sh` for external tools: each `mapm_ensure_*` function installs what is
   * missing (apt as root, a venv for PyPI) and prints `key=value` lines naming what it found. */
 object SetupScript {
+  /** The executable `tool` on the PATH, if any. */
+  def which(tool: String): Option[Path] = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).iterator
+    .map(d => java.nio.file.Paths.get(d, tool)).find(Files.isExecutable(_))
+
   /** Runs `function` of `root/tools/setup.sh`; the `key=value` lines it printed, all of `keys`
     * among them, or Left(the script's last error line). `echo` shows its stderr as it comes. */
   def run(root: Path, function: String, keys: Seq[String], echo: Boolean = false): Either[String, Map[String, String]] = {

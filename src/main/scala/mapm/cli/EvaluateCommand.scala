@@ -49,9 +49,7 @@ object EvaluateCommand extends Command {
   ): Int = {
     val t0 = System.nanoTime()
     MapmError.check(opts.scene == RenderCommand.defaultScene, "evaluate: it runs its four workloads; --scene does not apply")
-    MapmError.check(jobs >= 1 && jobs <= 256, s"evaluate: --jobs must be 1..256, got $jobs")
-    MapmError.check(partition.isEmpty || slurm.value, "evaluate: --partition applies to --slurm runs only")
-    MapmError.check(!(slurm.value && (task.isDefined || collect.value)), "evaluate: --slurm submits the tasks; --task and --collect are the tasks' own")
+    Slurm.checkOptions(name, jobs, slurm.value, partition, task, collect.value)
     opts.harness() // checks the memory model's options before any work
     val fixedClock = SweepCommand.parseClock(clock)
     val resultsFile = Paths.get(results)
@@ -68,7 +66,7 @@ object EvaluateCommand extends Command {
         SweepCommand.runTask(optsOf(w), c, work.resolve("tasks").resolve(i.toString), work, log)
         0
       case None if slurm.value =>
-        ws.foreach(w => optsOf(w).setup(w.configs)) // every scene loads and fits before anything is submitted
+        ws.foreach(w => optsOf(w).check(w.configs)) // every scene loads and fits before anything is submitted
         val taskArgs = Slurm.strip(rawArgs, Set("--slurm"), Set("--partition", "--jobs"))
         val rc = Slurm.run(name, taskArgs, jobsList.size, partition, Paths.get(opts.out).resolve("evaluate-slurm"), log)
         if (rc != 0) MapmError.fail(s"evaluate: the Slurm collect step ended with exit status $rc (logs in ${Paths.get(opts.out).resolve("evaluate-slurm")})")

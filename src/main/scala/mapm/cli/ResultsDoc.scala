@@ -116,7 +116,9 @@ object ResultsDoc {
     line()
     line("| workload | cycles (diss.) | memory B (diss.) | GB/s (diss., 1.5 GHz) | cycles (ours) | memory B (ours) | GB/s (ours, 1.5 GHz) | GB/s (ours, at fmax) | SOQ share of bytes (ours) |")
     line("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
-    val soqLine = MapmParams.default.caches.soq.lineBytes
+    // The 16/16/2 the runs used (format, layout and sizes as given), for record and cache sizes.
+    val p16 = MapmParams.of(16, 16, 2, opts.format.getOrElse(mapm.model.FloatFormat.fp32), opts.g, opts.layout, opts.arith, tuning = opts.hw.tuning)
+    val soqLine = p16.caches.soq.lineBytes
     var tot = (0L, 0L)
     for ((k, cyc, bytes, gbs) <- Dissertation.table413) {
       val s = stats(k, c16)
@@ -143,7 +145,7 @@ object ResultsDoc {
     val shares = rows.flatMap { case (w, _) => stats(w.key, c16) }.filter(_.bytesFetched > 0)
       .flatMap(x => x.caches.get("soq").map(q => q.misses.toDouble * soqLine / x.bytesFetched))
     val soq2k = ts2k.flatMap(x => x.caches.get("soq").map(q => (q.misses, x.queries)))
-    line(s"- **Bandwidth.** Our query records stream through the SOQ, a direct-mapped ${MapmParams.default.caches.soq.sizeBytes / 1024} KiB cache: " +
+    line(s"- **Bandwidth.** Our query records stream through the SOQ, a direct-mapped ${p16.caches.soq.sizeBytes / 1024} KiB cache: " +
       soq2k.map { case (m, q) => s"at Cornell 2k it missed ${n(m)} times for ${n(q)} queries, so each query's record is read from memory " +
         (if (m == q) "exactly once" else f"${m.toDouble / q}%.2f times on average") + ", " }.getOrElse("") +
       (if (shares.isEmpty) "" else f"and those reads are ${shares.min * 100}%.0f %% to ${shares.max * 100}%.0f %% of the bytes fetched at 16/16/2 (the last column of Table 4.13). ") +
@@ -151,8 +153,8 @@ object ResultsDoc {
       f"${Dissertation.table413.head._3.toDouble / Dissertation.cornell2kOps._1}%.1f bytes per query, less than one ${soqLine}-byte line per query, " +
       "so its query records cannot have streamed as ours do. Ours are the bytes the RTL fetched.")
     // The shared photon L2 takes one request per cycle: where the photon set outgrows the SOP L1 banks, it bounds the SO rate.
-    val photonBytes = MapmParams.default.records.photon.bytes
-    val l1Bank = MapmParams.default.sopL1Bank.sizeBytes
+    val photonBytes = p16.records.photon.bytes
+    val l1Bank = p16.sopL1Bank.sizeBytes
     val l2 = for ((w, _) <- rows; x <- stats(w.key, c16); l1 <- x.caches.get("sopL1"); l2 <- x.caches.get("sopL2"))
       yield (w, x, l1.hitRate, (l2.hits + l2.misses).toDouble / x.cycles)
     if (l2.nonEmpty) {

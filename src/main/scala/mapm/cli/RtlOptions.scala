@@ -42,6 +42,12 @@ final case class RtlOptions(
     Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave, waveStart, waveEnd, latencyMax, queryGap, reqStall,
       respGap, simThreads, tailProb, tailLatency)
 
+  /** [[RtlRun.configure]]: the scene, format and configurations `configs` checked, without running the model. */
+  def check(configs: Seq[(Int, Int, Int)]): Unit = {
+    RtlRun.configure(scene, format, g, configs, layout, arith, fidelity, hw.tuning)
+    ()
+  }
+
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
   def setup(configs: Seq[(Int, Int, Int)], prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): RtlRun.Setup =
     RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, hw.tuning, prebuild, log)

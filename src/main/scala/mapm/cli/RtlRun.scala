@@ -59,10 +59,7 @@ object RtlRun {
             layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online, fidelity: Fidelity = Fidelity.Full,
             tuning: Tuning = Tuning(), prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): Setup = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
-    val config = ModelRun.loadScene(scene)
-    val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout, arith, fidelity, tuning) }
-    checkFits(config, params.headOption.getOrElse(MapmParams.default).indices)
+    val (config, fmt, params) = configure(scene, format, g, configs, layout, arith, fidelity, tuning)
     import scala.concurrent.ExecutionContext.Implicits.global
     val builds = prebuild.toSeq.flatMap { case (trace, threads) => params.map(p => p -> Future(build(p, trace, threads, log))) }.toMap
     val frame = Frame.prepare(config, fmt, threads)
@@ -77,6 +74,17 @@ object RtlRun {
     val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith)
     Setup(params, Prepared(name, config, frame, layout, image, expected, model, work,
       frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)), arith, builds))
+  }
+
+  /** The scene loaded, its format resolved and the configurations made and checked against it
+    * ([[checkFits]]): everything [[setup]] checks before the model runs, without running it. */
+  def configure(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], layout: SlotLayout,
+                arith: Arith, fidelity: Fidelity, tuning: Tuning): (SceneConfig, FloatFormat, Seq[MapmParams]) = {
+    val config = ModelRun.loadScene(scene)
+    val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
+    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout, arith, fidelity, tuning) }
+    checkFits(config, params.headOption.getOrElse(MapmParams.default).indices)
+    (config, fmt, params)
   }
 
   /** Fails, before any work, when the scene can need more query points or photons than the

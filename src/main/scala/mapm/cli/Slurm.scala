@@ -8,12 +8,19 @@ import scala.sys.process.{Process, ProcessLogger}
 import mapm.MapmError
 
 /** Runs independent jobs as a Slurm job array (docs/cluster.md): one array task per job, each
-  * running `tools/mapm` with the submitting command's own arguments and `--task N`, then one
+  * running mapm with the submitting command's own arguments and `--task N`, then one
   * collect step, after every task has ended (`afterany`, so that a failed task is reported, not
   * waited for), that merges the tasks' result files. The submitting command waits for the collect
   * step (`sbatch --wait`) and ends with its exit status. The tasks run in the submitting folder,
   * on the submitting JVM's classpath ([[launcher]]): no task compiles, all run the same code. */
 object Slurm {
+  /** The checks of the options every command that runs jobs takes (`--jobs`, `--slurm`, `--partition`, `--task`, `--collect`). */
+  def checkOptions(command: String, jobs: Int, slurm: Boolean, partition: Option[String], task: Option[Int], collect: Boolean): Unit = {
+    MapmError.check(jobs >= 1 && jobs <= 256, s"$command: --jobs must be 1..256, got $jobs")
+    MapmError.check(partition.isEmpty || slurm, s"$command: --partition applies to --slurm runs only")
+    MapmError.check(!(slurm && (task.isDefined || collect)), s"$command: --slurm submits the tasks; --task and --collect are the tasks' own")
+  }
+
   /** `args` quoted for a POSIX shell. */
   def quote(args: Seq[String]): String =
     args.map(a => if (a.nonEmpty && a.forall(c => c.isLetterOrDigit || "-_./=,:+@%".contains(c))) a else "'" + a.replace("'", "'\\''") + "'").mkString(" ")
@@ -40,10 +47,8 @@ object Slurm {
     (jvm +: flags) ++ Seq("-cp", sys.props("java.class.path"), "mapm.cli.Main")
   }
 
-  private def sbatch: String = {
-    val found = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).map(d => java.nio.file.Paths.get(d, "sbatch")).find(Files.isExecutable(_))
-    found.map(_.toString).getOrElse(MapmError.fail("--slurm: sbatch not found on PATH (Slurm's client commands are needed; tools/slurm-local.sh starts a one-node cluster)"))
-  }
+  private def sbatch: String =
+    mapm.SetupScript.which("sbatch").map(_.toString).getOrElse(MapmError.fail("--slurm: sbatch not found on PATH (Slurm's client commands are needed; tools/slurm-local.sh starts a one-node cluster)"))
 
   /** Submits `tasks` array tasks running `mapm command taskArgs --task N`, then the collect step
     * `mapm command taskArgs --collect`, logs in `logDir`; waits for the collect step and returns

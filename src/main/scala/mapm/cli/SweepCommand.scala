@@ -60,9 +60,7 @@ object SweepCommand extends Command {
     val list = configs.map(parseConfigs).getOrElse(MapmParams.table48Configs)
     MapmError.check(list.nonEmpty, "sweep: no configurations given")
     MapmError.check(list.distinct.size == list.size, s"sweep: a configuration is listed twice in --configs")
-    MapmError.check(jobs >= 1 && jobs <= 256, s"sweep: --jobs must be 1..256, got $jobs")
-    MapmError.check(partition.isEmpty || slurm.value, "sweep: --partition applies to --slurm runs only")
-    MapmError.check(!(slurm.value && (task.isDefined || collect.value)), "sweep: --slurm submits the tasks; --task and --collect are the tasks' own")
+    Slurm.checkOptions(name, jobs, slurm.value, partition, task, collect.value)
     opts.harness() // checks the memory model's options before any work
     val fixedClock = parseClock(clock)
     MapmError.check(!(noCost.value && clock.contains("fmax")), "sweep: --clock fmax needs the cost flow (drop --no-cost, or give GHz)")
@@ -74,8 +72,7 @@ object SweepCommand extends Command {
         runTask(opts, list(i), work.resolve("tasks").resolve(i.toString), work, log)
         0
       case None if slurm.value =>
-        // The model once here first: a scene or configuration error stops before anything is submitted.
-        opts.setup(list)
+        opts.check(list) // a scene or configuration error stops before anything is submitted
         val taskArgs = Slurm.strip(rawArgs, Set("--slurm"), Set("--partition", "--jobs"))
         val rc = Slurm.run(name, taskArgs, list.size, partition, work.resolve("slurm"), log)
         if (rc != 0) MapmError.fail(s"sweep: the Slurm collect step ended with exit status $rc (logs in ${work.resolve("slurm")})")

@@ -9,8 +9,7 @@ object Verilator {
   /** Whether verilator is on the PATH. */
   def available: Boolean = onPath.isDefined
 
-  private def onPath: Option[java.nio.file.Path] = sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).iterator
-    .map(d => java.nio.file.Paths.get(d, "verilator")).find(p => Files.isExecutable(p))
+  private def onPath: Option[java.nio.file.Path] = mapm.SetupScript.which("verilator")
 
   /** The verilator executable, or a [[MapmError]] telling how to get it. */
   def executable: String = {
@@ -39,8 +38,7 @@ object Verilator {
       "--x-initial", "fast", "--top-module", top, "-Mdir", obj.toString, "-o", exe.toAbsolutePath.toString,
       "-j", Runtime.getRuntime.availableProcessors.toString) ++ optFlags ++ extraFlags ++
       svFiles.map(_.toString) :+ harness.toString
-    val hasCcache = ccache && sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator)
-      .exists(d => Files.isExecutable(java.nio.file.Paths.get(d, "ccache")))
+    val hasCcache = ccache && mapm.SetupScript.which("ccache").isDefined
     // Paths under `dir` reach ccache relative to it, so a build in a fresh folder (AtomicDir's
     // private name) still hits the cache of an earlier one.
     val env = if (hasCcache) Seq("OBJCACHE" -> "ccache", "CCACHE_BASEDIR" -> dir.toAbsolutePath.toString, "CCACHE_NOHASHDIR" -> "1")
