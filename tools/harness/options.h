@@ -16,6 +16,7 @@ struct Options {
   uint64_t latency = 100, latencyMax = 0, maxCycles = 0, idleCycles = 200000, seed = 1, waveStart = 0, waveEnd = UINT64_MAX;
   double bandwidth = 14.0, clockGhz = 1.5, queryGap = 0, reqStall = 0, respGap = 0, tailProb = 0;
   uint64_t tailLatency = 0, faultAt = 0;
+  uint64_t measureFrom = UINT64_MAX;  // --measure-from: callgrind counts from this cycle to the end of the run
   Fault fault = Fault::None;
 };
 
@@ -24,14 +25,14 @@ struct Options {
           "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--latency-max N] [--bandwidth B]\n"
           "  [--query-gap P] [--req-stall P] [--resp-gap P] [--tail-prob P --tail-latency N] [--max-cycles N] [--idle-cycles N]\n"
           "  [--seed N] [--clock-ghz F] [--fault node-axis|node-child|query-index|unknown-id|duplicate-response [--fault-at N]]\n"
-          "  [--wave FILE.fst --wave-start N --wave-end N] [--results FILE]\n",
+          "  [--wave FILE.fst --wave-start N --wave-end N] [--results FILE] [--measure-from N]\n",
           msg.c_str());
   exit(2);
 }
 
 inline Options parseOptions(int argc, char** argv) {
   enum { IMAGE = 1, EXPECTED, OUT, LATENCY, LATENCY_MAX, BANDWIDTH, QUERY_GAP, REQ_STALL, RESP_GAP, MAX_CYCLES, IDLE_CYCLES,
-         SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END, TAIL_PROB, TAIL_LATENCY, FAULT, FAULT_AT, RESULTS };
+         SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END, TAIL_PROB, TAIL_LATENCY, FAULT, FAULT_AT, RESULTS, MEASURE_FROM };
   static const option longOptions[] = {
       {"image", required_argument, nullptr, IMAGE},           {"expected", required_argument, nullptr, EXPECTED},
       {"out", required_argument, nullptr, OUT},               {"latency", required_argument, nullptr, LATENCY},
@@ -43,7 +44,7 @@ inline Options parseOptions(int argc, char** argv) {
       {"wave-start", required_argument, nullptr, WAVE_START}, {"wave-end", required_argument, nullptr, WAVE_END},
       {"tail-prob", required_argument, nullptr, TAIL_PROB},   {"tail-latency", required_argument, nullptr, TAIL_LATENCY},
       {"fault", required_argument, nullptr, FAULT},           {"fault-at", required_argument, nullptr, FAULT_AT},
-      {"results", required_argument, nullptr, RESULTS},
+      {"results", required_argument, nullptr, RESULTS},       {"measure-from", required_argument, nullptr, MEASURE_FROM},
       {nullptr, 0, nullptr, 0}};
   Options o;
   opterr = 0;  // the errors below say what went wrong
@@ -79,6 +80,7 @@ inline Options parseOptions(int argc, char** argv) {
       case FAULT: if (!parseFault(v, &o.fault)) usage("--fault: unknown fault " + v); break;
       case FAULT_AT: o.faultAt = u(); break;
       case RESULTS: o.results = v; break;
+      case MEASURE_FROM: o.measureFrom = u(); break;
     }
   }
   for (int i = optind; i < argc; i++)  // getopt_long moves the arguments that are not options here

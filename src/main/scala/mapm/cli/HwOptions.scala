@@ -18,10 +18,11 @@ final case class HwOptions(
     @arg(doc = "SOQ query cache (default 16K/32/1)") soq: Option[CacheSpec] = None,
     @arg(name = "sop-l1", doc = "SOP L1 per SOM, split into one bank per SOA (default 64K/32/2)") sopL1: Option[CacheSpec] = None,
     @arg(name = "sop-l2", doc = "shared SOP L2 (default 512K/64/full)") sopL2: Option[CacheSpec] = None,
-    @arg(doc = "requests in flight at once on the memory port (default 64)") memOutstanding: Option[Int] = None) {
+    @arg(doc = "requests in flight at once on the memory port (default 64)") memOutstanding: Option[Int] = None,
+    @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag()) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
-    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding)
+    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value)
 
   /** The sizes given, for a log or a report: "Table 4.2's" when none. */
   def describe: String = if (tuning.describe.isEmpty) "caches and queues as Table 4.2 (the defaults)" else s"sizes ${tuning.describe.mkString(", ")}, the rest as Table 4.2"

@@ -10,14 +10,15 @@ object SvStats {
   def modules(sv: String): Seq[String] = moduleRe.findAllMatchIn(sv).map(_.group(1)).toSeq
 
   /** Flip-flop bits of the module `top` (default: the last module in the text), counting every
-    * `reg` declaration of each module once per instance in the hierarchy. */
+    * `reg` declaration of each module once per instance in the hierarchy. The latch of a clock gate
+    * ([[mapm.util.ClockGate]], whose module has an `always_latch`) is not a flip-flop. */
   def registerBits(sv: String, top: Option[String] = None): Long = {
     val bodies = moduleRe.findAllMatchIn(sv).map(m => m.group(1) -> m.group(2)).toMap
     val order = moduleRe.findAllMatchIn(sv).map(_.group(1)).toSeq
     val memo = scala.collection.mutable.Map.empty[String, Long]
     def count(name: String): Long = memo.getOrElseUpdate(name, {
       val body = bodies(name)
-      val own = regRe.findAllMatchIn(body).map { m =>
+      val own = if (body.contains("always_latch")) 0L else regRe.findAllMatchIn(body).map { m =>
         if (m.group(1) == null) 1L else (m.group(1).toLong - m.group(2).toLong).abs + 1
       }.sum
       own + instRe.findAllMatchIn(body).map(_.group(1)).filter(bodies.contains).map(count).sum

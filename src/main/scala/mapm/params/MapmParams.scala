@@ -106,7 +106,8 @@ final case class Tuning(
     soq: CacheSpec = CacheSpec(),           // SOQ geometry
     sopL1: CacheSpec = CacheSpec(),         // SOP L1 geometry (per SOM, split into one bank per SOA)
     sopL2: CacheSpec = CacheSpec(),         // SOP L2 geometry
-    memOutstanding: Option[Int] = None      // requests in flight on the memory port
+    memOutstanding: Option[Int] = None,     // requests in flight on the memory port
+    soaClockGate: Boolean = true            // gate each SOA's clock while it holds no operation
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
@@ -114,7 +115,7 @@ final case class Tuning(
       Some(s"$n=" + Seq(c.sizeBytes.map(_.toString), c.lineBytes.map(_.toString), c.ways.map(w => if (w == CacheSpec.Full) "full" else w.toString)).flatten.mkString("/"))
     registerQueueDepth.map(d => s"rq-depth=$d").toSeq ++ rsEntries.map(r => s"rs-entries=$r") ++
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
-      memOutstanding.map(m => s"mem-outstanding=$m")
+      memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate"))
   }
 }
 
@@ -216,6 +217,11 @@ object Fidelity {
     mapm.MapmError.fail(s"fidelity must be one of ${all.map(_.name).mkString(", ")}, got '$s'"))
 }
 
+/** Clock gating, which saves the power of idle logic in silicon and its evaluation in Verilator. */
+final case class ClockingParams(
+    soaClockGate: Boolean = true // each SOA's clock runs only while an operation enters or is inside it (docs/mapm.md)
+)
+
 /** How the emitted design is meant to be simulated. */
 final case class SimParams(
     fidelity: Fidelity = Fidelity.Full // full RTL, or SOAs replaced by their timing model
@@ -229,6 +235,7 @@ final case class MapmParams(
     caches: CachesParams = CachesParams(),   // cache geometry (Table 4.2)
     memory: MemoryParams = MemoryParams(),   // memory port
     indices: IndexParams = IndexParams(),    // index widths
+    clocking: ClockingParams = ClockingParams(), // clock gating
     sim: SimParams = SimParams()             // full RTL or the SOAs' timing model
 ) {
   /** Bytes of a format slot in the memory records: the format's in the configured layout. */
@@ -265,15 +272,16 @@ final case class MapmParams(
 
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
     * wide layout gives the format larger slots than the packed one, the FPU logic per stage
-    * (e.g. `_fw1p5`) where it is not the default, `_conv` for the conventional arithmetic and
-    * `_timing` for the SOAs' timing model. */
+    * (e.g. `_fw1p5`) where it is not the default, `_conv` for the conventional arithmetic,
+    * `_timing` for the SOAs' timing model and `_nocg` for SOAs without clock gating. */
   def name: String = {
     val wide = if (slotBytes != SlotLayout.Packed.slotBytes(numbers.format)) "_wide" else ""
     val w = numbers.fpuStageWeight
     val depth = if (w != NumberParams.DefaultFpuStageWeight) "_fw" + f"$w%.2f".stripSuffix("0").stripSuffix("0").stripSuffix(".").replace('.', 'p') else ""
     val conv = if (numbers.arith == Arith.Conventional) "_conv" else ""
     val timing = if (sim.fidelity == Fidelity.Timing) "_timing" else ""
-    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing"
+    val gate = if (clocking.soaClockGate) "" else "_nocg"
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate"
   }
 }
 
@@ -319,6 +327,7 @@ object MapmParams {
         numbers = NumberParams(format, g, arith = arith),
         memory = base.memory.copy(layout = layout, maxOutstanding = t.memOutstanding.getOrElse(base.memory.maxOutstanding)),
         sim = SimParams(fidelity),
+        clocking = ClockingParams(t.soaClockGate),
         caches = CachesParams(tsL1 = fit("ts-l1", c.tsL1, t.tsL1, r.node.bytes), tsL2 = fit("ts-l2", c.tsL2, t.tsL2, 0),
           soq = fit("soq", c.soq, t.soq, r.queryHwBytes), sopL1 = fit("sop-l1", c.sopL1, t.sopL1, r.photon.bytes),
           sopL2 = fit("sop-l2", c.sopL2, t.sopL2, 0)),

@@ -6,7 +6,7 @@ import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{Fidelity, MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
-import mapm.util.Pick
+import mapm.util.{ClockGate, Pick}
 
 /** One shader operation waiting in a reservation station: its query and the photon's node index. */
 class SoOp(p: MapmParams) extends Bundle {
@@ -123,6 +123,11 @@ class SomLane(p: MapmParams) extends Module {
   val inSoa = RegInit(0.U(log2Ceil(soa.latency + 2).W))
   inSoa := inSoa + soa.io.in.valid.asUInt - soa.io.out.valid.asUInt
   io.idle := !valid.asUInt.orR && inSoa === 0.U
+  // The SOA is a pipeline without feedback: each stage's registers hold the operation that entered
+  // so many cycles earlier, and nothing else. While no operation is inside it or entering it, its
+  // clock stops (a gated stage holds values no valid bit points to); it runs in reset, so that
+  // its valid bits clear.
+  if (p.clocking.soaClockGate) soa.clock := ClockGate(clock, reset.asBool || soa.io.in.valid || inSoa =/= 0.U)
 }
 
 object SomLane {

@@ -15,9 +15,33 @@ object Emit {
     Array("--lowering-options=disallowLocalVariables,disallowPackedArrays,locationInfoStyle=none")
 
   /** The SystemVerilog of `gen` as one string; `forSynthesis` spells it for yosys. */
-  def systemVerilog(gen: => chisel3.RawModule, forSynthesis: Boolean = false): String =
-    circt.stage.ChiselStage.emitSystemVerilog(gen, Array.empty,
+  def systemVerilog(gen: => chisel3.RawModule, forSynthesis: Boolean = false): String = {
+    val sv = try circt.stage.ChiselStage.emitSystemVerilog(gen, Array.empty,
       if (forSynthesis) firtoolOpts ++ synthesisOpts else firtoolOpts)
+    catch { // Chisel's FirtoolNonZeroExitCode, which it does not export
+      case e: RuntimeException if e.getClass.getName.endsWith("FirtoolNonZeroExitCode") => mapm.MapmError.fail(firtoolFailure(e.getMessage))
+    }
+    // Black boxes with inline Verilog ([[mapm.util.ClockGate]]) come after the design, each after a
+    // `// ----- 8< ----- FILE` comment; the file list that firtool appends last is not Verilog.
+    val fileList = sv.indexOf(BlackBoxFileList)
+    if (fileList < 0) sv else sv.substring(0, sv.lastIndexOf('\n', fileList) + 1)
+  }
+
+  /** One line for a failed firtool run, from Chisel's many-line message: its exit code (137 and
+    * 9: killed, which on a big design is the kernel's out-of-memory killer) and the first line of
+    * its error output. */
+  def firtoolFailure(message: String): String = {
+    val code = "(?s)ExitCode:\\s*(-?\\d+)".r.findFirstMatchIn(message).map(_.group(1).toInt)
+    val err = "(?s)STDERR:\\s*\\n(.*)".r.findFirstMatchIn(message).map(_.group(1)).toSeq
+      .flatMap(_.linesIterator.map(_.trim)).find(l => l.nonEmpty && !l.startsWith("---"))
+    val why = code match {
+      case Some(137) | Some(-9) | Some(9) => " (killed: most likely out of memory; a smaller configuration or a machine with more memory may emit)"
+      case _ => ""
+    }
+    s"firtool failed with exit code ${code.fold("?")(_.toString)}$why${err.fold("")(l => s": $l")}"
+  }
+
+  private val BlackBoxFileList = "// ----- 8< ----- FILE \"firrtl_black_box_resource_files.f\""
 
   /** Writes the SystemVerilog of `gen` to `dir/<file>` and returns the path. */
   def toFile(gen: => chisel3.RawModule, dir: Path, file: String, forSynthesis: Boolean = false): Path = {

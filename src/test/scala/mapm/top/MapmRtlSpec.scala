@@ -70,6 +70,35 @@ class MapmRtlSpec extends AnyFunSuite {
       info(s"${seeds.size + 1} runs: ${small.frame.querySet.size} and ${large.frame.querySet.size} queries, ${small.model.count} and ${large.model.count} SOs")
     }
 
+  /** Runs `p` on `prep` under the stress options with `seed`, recording every result beat:
+    * (stats, the `cycle port q photon` lines in the order they came out, the verdict). */
+  private def resultBeats(prep: RtlRun.Prepared, p: MapmParams, seed: Long): (HarnessStats, Seq[String], String) = {
+    val out = dir.resolve(s"${prep.name}-${p.name}-results-$seed")
+    val results = out.resolve("results.txt")
+    val r = RtlRun.runConfig(prep, p, stress.copy(seed = seed, results = Some(results)), out, _ => ())
+    assert(r.passed, s"${p.name} on ${prep.name}: ${r.failure}")
+    (r.outcome.stats.get, Files.readAllLines(results).asScala.toSeq, r.outcome.verdict)
+  }
+
+  // SOA clock gating (docs/mapm.md): with every SOA clocked in every cycle instead, the same frame
+  // under the same memory seed gives the same result beats (cycle, port, q, photon), the same
+  // cycles and every counter equal; the harness checks every colour in both runs.
+  test("2/1/2 fp32 SOA clock gating: beat for beat and counter for counter the ungated RTL on two scenes") {
+    assume(haveVerilator, "verilator is not on PATH")
+    val gated = MapmParams.of(2, 1, 2, FloatFormat.fp32, 3)
+    val ungated = MapmParams.of(2, 1, 2, FloatFormat.fp32, 3, tuning = Tuning(soaClockGate = false))
+    assert(gated.clocking.soaClockGate && !ungated.clocking.soaClockGate && ungated.name == gated.name + "_nocg")
+    for (prep <- Seq(small, large)) {
+      val (gs, gr, _) = resultBeats(prep, gated, 41L)
+      val (us, ur, _) = resultBeats(prep, ungated, 41L)
+      assert(gr.size == prep.model.count && gr.nonEmpty)
+      assert(gr == ur, s"${prep.name}: result beats differ, first at ${gr.zip(ur).indexWhere(x => x._1 != x._2)}")
+      assert(gs.cycles == us.cycles && gs.counters == us.counters)
+      assert(gs.stallCycles == us.stallCycles && gs.caches == us.caches && gs.bytesFetched == us.bytesFetched)
+      info(s"${prep.name}: ${gs.cycles} cycles, ${gr.size} result beats identical")
+    }
+  }
+
   // The timing model (--fidelity timing): each SOA a delay line of its latency. Against the full RTL
   // on the same frame and the same memory seed: the same cycles, every counter but soPassed (which
   // counts cond bits the model does not compute) equal, the same stalls, cache and memory figures,
@@ -81,15 +110,8 @@ class MapmRtlSpec extends AnyFunSuite {
       val timing = MapmParams.of(t, s, a, FloatFormat.fp32, 3, fidelity = Fidelity.Timing)
       assert(timing.name == full.name + "_timing")
       for (prep <- Seq(small, large)) {
-        def run(p: MapmParams): (HarnessStats, Seq[String], String) = {
-          val out = dir.resolve(s"${prep.name}-${p.name}-results-$seed")
-          val results = out.resolve("results.txt")
-          val r = RtlRun.runConfig(prep, p, stress.copy(seed = seed, results = Some(results)), out, _ => ())
-          assert(r.passed, s"${p.name} on ${prep.name}: ${r.failure}")
-          (r.outcome.stats.get, Files.readAllLines(results).asScala.toSeq, r.outcome.verdict)
-        }
-        val (fs, fr, _) = run(full)
-        val (ts, tr, verdict) = run(timing)
+        val (fs, fr, _) = resultBeats(prep, full, seed)
+        val (ts, tr, verdict) = resultBeats(prep, timing, seed)
         assert(fs.fidelity == "full" && ts.fidelity == "timing")
         assert(verdict.contains("colours from the model"), verdict)
         assert(fr.size == prep.model.count && fr.nonEmpty)
