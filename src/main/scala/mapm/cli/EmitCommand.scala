@@ -44,10 +44,10 @@ object EmitCommand extends Command {
     val secs = (System.nanoTime() - t0) / 1e9
     val sv = new String(Files.readAllBytes(file), UTF_8)
     println(f"wrote $file and ${dir.resolve("mapm_config.h")} ($top: ${p.counts.label}, format ${p.numbers.format} in ${p.slotBytes}-byte slots, $arith arithmetic, g = $g${if (fidelity == Fidelity.Timing) ", SOAs as timing models" else ""}) in $secs%.1f s")
-    println(s"  ${sv.linesIterator.size} lines of SystemVerilog, ${SvStats.registerBits(sv, Some(top))} flip-flops " +
+    println(s"  ${sv.linesIterator.size} lines of SystemVerilog, ${SvStats.registerBits(sv, top)} flip-flops " +
       s"(memory arrays not counted), ${p.counts.som * p.counts.soaPerSom} result ports")
     val units = for (unit <- Seq("TSA", "SOA"); m <- SvStats.modules(sv).find(m => m.startsWith(unit + "_") || m.startsWith("Conv" + unit + "_")))
-      yield s"$unit ($m) ${SvStats.registerBits(sv, Some(m))}"
+      yield s"$unit ($m) ${SvStats.registerBits(sv, m)}"
     println(s"  flip-flops per ${units.mkString(", per ")}")
     0
   }

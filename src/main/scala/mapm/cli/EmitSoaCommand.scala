@@ -41,7 +41,7 @@ object EmitSoaCommand extends Command {
         Seq("FMul" -> depth.mul, "FDiv (radix-2 SRT)" -> depth.div, "colour chain" -> ConvShaderChain.latency(depth))
     }) ++ Seq("cond check" -> CondCheck.latency(depth), "SOA (colours, flags, cond, tag)" -> SOA.latency(format, g, depth, arith))
     for ((unit, cycles) <- units) println(f"  latency $unit%-36s $cycles%3d cycles")
-    println(s"  flip-flops: ${SvStats.registerBits(sv, Some(top))}")
+    println(s"  flip-flops: ${SvStats.registerBits(sv, top)}")
     0
   }
 

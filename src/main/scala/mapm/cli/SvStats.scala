@@ -9,12 +9,11 @@ object SvStats {
   /** The names of the modules defined in `sv`, in text order. */
   def modules(sv: String): Seq[String] = moduleRe.findAllMatchIn(sv).map(_.group(1)).toSeq
 
-  /** Flip-flop bits of the module `top` (default: the last module in the text), counting every
+  /** Flip-flop bits of the module `top`, counting every
     * `reg` declaration of each module once per instance in the hierarchy. The latch of a clock gate
     * ([[mapm.util.ClockGate]], whose module has an `always_latch`) is not a flip-flop. */
-  def registerBits(sv: String, top: Option[String] = None): Long = {
+  def registerBits(sv: String, top: String): Long = {
     val bodies = moduleRe.findAllMatchIn(sv).map(m => m.group(1) -> m.group(2)).toMap
-    val order = moduleRe.findAllMatchIn(sv).map(_.group(1)).toSeq
     val memo = scala.collection.mutable.Map.empty[String, Long]
     def count(name: String): Long = memo.getOrElseUpdate(name, {
       val body = bodies(name)
@@ -23,6 +22,6 @@ object SvStats {
       }.sum
       own + instRe.findAllMatchIn(body).map(_.group(1)).filter(bodies.contains).map(count).sum
     })
-    count(top.getOrElse(order.last))
+    count(top)
   }
 }

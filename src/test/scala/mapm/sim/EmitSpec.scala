@@ -27,8 +27,8 @@ class EmitSpec extends AnyFunSuite {
     assert("""(?m)^module ClockGate\(""".r.findAllMatchIn(sv).size == 1, sv)
     assert(sv.contains("always_latch") && !sv.contains("firrtl_black_box_resource_files") && !sv.trim.endsWith(".sv"))
     assert(SvStats.modules(sv).toSet == Set("GatedPair", "ClockGate"))
-    assert(SvStats.registerBits(sv, Some("GatedPair")) == 8 + 3)
-    assert(SvStats.registerBits(sv, Some("ClockGate")) == 0)
+    assert(SvStats.registerBits(sv, "GatedPair") == 8 + 3)
+    assert(SvStats.registerBits(sv, "ClockGate") == 0)
   }
 
   test("firtool killed (exit 137) or failing with a message: one line naming the code and the reason") {
