@@ -1,6 +1,10 @@
 package mapm.cli
 
-import java.nio.file.Paths
+import java.nio.file.{Files, Paths}
+import java.util.concurrent.Executors
+
+import scala.concurrent.{Await, ExecutionContext, Future}
+import scala.concurrent.duration.Duration
 
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
@@ -44,7 +48,9 @@ object EvaluateCommand extends Command {
       @arg(doc = "Slurm partition for --slurm (default: the cluster's)") partition: Option[String] = None,
       @arg(doc = "internal: run job N alone (a Slurm array task)") task: Option[Int] = None,
       @arg(doc = "internal: merge the jobs' results into the results page (the Slurm collect step)") collect: Flag,
-      @arg(doc = "the results page to write (its charts go beside it, in results/)") results: String = "docs/results.md",
+      @arg(doc = "the results page to write (its charts go beside it, in results/; the full run keeps each finished run in results/runs/)") results: String = "docs/results.md",
+      @arg(doc = "take the runs an earlier full run (or part of one) kept in results/runs/ with the same code and options, and run the rest") resume: Flag,
+      @arg(doc = "start no job after this many minutes; the runs left are for a later --resume (exit status 2)") budget: Option[Double] = None,
       opts: RtlOptions
   ): Int = {
     val t0 = System.nanoTime()
@@ -53,7 +59,11 @@ object EvaluateCommand extends Command {
     opts.harness() // checks the memory model's options before any work
     val fixedClock = SweepCommand.parseClock(clock)
     val resultsFile = Paths.get(results)
-    val fid = if (quick.value && !rawArgs.exists(_.startsWith("--fidelity"))) Fidelity.Timing else opts.fidelity
+    val fid = if (!rawArgs.exists(_.startsWith("--fidelity"))) Fidelity.Timing else opts.fidelity
+    MapmError.check(budget.forall(_ > 0), s"evaluate: --budget must be a positive number of minutes, got ${budget.getOrElse(0.0)}")
+    MapmError.check(!(quick.value && (resume.value || budget.isDefined)), "evaluate: --resume and --budget are for the full run, not --quick")
+    MapmError.check(!((slurm.value || task.isDefined || collect.value) && (resume.value || budget.isDefined)),
+      "evaluate: --resume and --budget are for local runs, not --slurm")
     val ws = workloads(quick.value)
     def optsOf(w: Workload) = opts.copy(scene = Harness.root.resolve(w.scene).toString, fidelity = fid)
     val jobsList = ws.flatMap(w => w.configs.map(c => (w, c)))
@@ -73,20 +83,87 @@ object EvaluateCommand extends Command {
         println(f"evaluate: ${jobsList.size} jobs through Slurm in ${(System.nanoTime() - t0) / 1e9}%.0f s")
         0
       case None =>
-        if (!collect.value) for (w <- ws) {
-          println(s"== ${w.title}: ${w.scene}, ${w.configs.size} configurations")
-          SweepCommand.runLocal(optsOf(w), w.configs, jobs, SweepCommand.workDir(optsOf(w)), log)
+        val parts = if (collect.value) Seq.empty else {
+          val archive = if (quick.value) None else Some(RunArchive.beside(resultsFile))
+          runLocal(ws, optsOf, jobs, resume.value, budget, archive, t0, log)
+        }
+        val missing = jobsList.filterNot { case (w, c) => Files.isRegularFile(SweepReport.configDir(SweepCommand.workDir(optsOf(w)), c).resolve("result.json")) }
+        if (missing.nonEmpty && !collect.value) {
+          System.err.println(s"mapm: evaluate: ${jobsList.size - missing.size} of ${jobsList.size} runs done, ${missing.size} left after the " +
+            s"--budget; `tools/mapm evaluate --resume` (same options) runs the rest and then writes $results")
+          return 2
         }
         val rows = ws.map(w => w -> w.configs.map(SweepReport.readRow(SweepCommand.workDir(optsOf(w)), _)))
         val cost = SweepCommand.unitCost(opts, fixedClock, log)
-        val wall = if (collect.value) None else Some((System.nanoTime() - t0) / 1e9)
-        val files = ResultsDoc.write(resultsFile, rows, cost, fid, quick.value, opts, wall, jobs)
+        val files = ResultsDoc.write(resultsFile, rows, cost, fid, quick.value, opts, parts)
         files.foreach(f => println(s"wrote $f"))
         val failed = rows.flatMap(_._2).filterNot(_.passed)
         if (failed.nonEmpty) MapmError.fail(s"evaluate: ${failed.size} runs failed: " + failed.map(r => s"${r.label} (${r.result.failure})").mkString("; "))
-        wall.foreach(s => println(f"evaluate: ${jobsList.size} runs in $s%.0f s wall"))
+        if (parts.nonEmpty) println(f"evaluate: ${jobsList.size} runs in ${parts.map(_.wallSeconds).sum}%.0f s wall" +
+          (if (parts.size > 1) s" (the sum of ${parts.size} parts)" else ""))
         0
     }
+  }
+
+  /** Runs the workloads' jobs on this machine, `jobs` at a time, and returns the parts that made
+    * them. Configurations are taken `jobs` at a time, each group over every workload, so the
+    * builds of a group are made at once, by different threads, and each is made once.
+    * With `archive` (the full run), each passed run is kept there as it ends, with the part's
+    * wall time so far; `resume` first takes the runs already kept under the same key
+    * ([[RunArchive]]); without it the archive starts afresh. With `budget` (minutes) no job
+    * starts after that time; the jobs left are for a later `--resume`. */
+  private def runLocal(ws: Seq[Workload], optsOf: Workload => RtlOptions, jobs: Int, resume: Boolean, budget: Option[Double],
+                       archive: Option[RunArchive], t0: Long, log: String => Unit): Seq[RunArchive.Part] = {
+    val code = RunArchive.codeHash
+    def key(w: Workload, c: (Int, Int, Int)) = RunArchive.key(code, w.scene, optsOf(w), c)
+    def runDir(w: Workload, c: (Int, Int, Int)) = SweepReport.configDir(SweepCommand.workDir(optsOf(w)), c)
+    for (w <- ws; c <- w.configs) { // a result of an earlier, unrelated run in the work folder is not this run's
+      Files.deleteIfExists(runDir(w, c).resolve("result.json"))
+      Files.deleteIfExists(runDir(w, c).resolve("stats.json"))
+    }
+    archive.filterNot(_ => resume).foreach(_.clear())
+    val earlier = archive.filter(_ => resume).map(_.parts).getOrElse(Seq.empty)
+    val kept = archive.filter(_ => resume).toSeq.flatMap(a => for (w <- ws; c <- w.configs if a.restore(w.key, c, key(w, c), runDir(w, c))) yield (w, c))
+    val todo = ws.flatMap(w => w.configs.map(c => (w, c))).filterNot(kept.contains)
+    archive.foreach(a => println(s"evaluate: ${kept.size} runs kept from ${earlier.size} earlier parts in ${a.dir}, ${todo.size} to run"))
+    if (todo.isEmpty) return earlier
+    val part = RunArchive.Part(earlier.map(_.index).maxOption.getOrElse(0) + 1, java.time.Instant.now.toString.take(16) + "Z", 0, jobs,
+      Runtime.getRuntime.availableProcessors, 0)
+    val setups = todo.map(_._1).distinct.map { w =>
+      val cs = todo.filter(_._1 == w).map(_._2)
+      println(s"== ${w.title}: ${w.scene}, ${cs.size} configurations")
+      val RtlRun.Setup(params, prep) = optsOf(w).setup(cs)
+      w -> (prep, cs.zip(params).toMap)
+    }.toMap
+    val order = todo.map(_._2).distinct.grouped(jobs).toSeq.flatMap(g => todo.filter(j => g.contains(j._2)).sortBy(j => (ws.indexOf(j._1), g.indexOf(j._2))))
+    val buildLocks = order.map(_._2).distinct.map(_ -> new Object).toMap
+    val deadline = budget.map(m => t0 + (m * 60e9).toLong)
+    @volatile var current = part
+    def finished(w: Workload, c: (Int, Int, Int)): Unit = synchronized {
+      current = current.copy(wallSeconds = (System.nanoTime() - t0) / 1e9, runs = current.runs + 1)
+      for (a <- archive) {
+        if (SweepReport.readRow(SweepCommand.workDir(optsOf(w)), c).passed) a.save(w.key, c, key(w, c), part.index, runDir(w, c))
+        a.savePart(current)
+      }
+    }
+    val pool = Executors.newFixedThreadPool(math.min(jobs, order.size))
+    implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
+    try {
+      val runs = order.map { case (w, c) =>
+        Future {
+          if (!deadline.exists(System.nanoTime() > _)) {
+            val (prep, params) = setups(w)
+            val p = params(c)
+            val tag = (l: String) => log(s"[${w.key} ${p.counts.label}] $l")
+            buildLocks(c).synchronized(RtlRun.build(p, trace = false, optsOf(w).simThreads, tag))
+            SweepCommand.runOne(prep, p, c, optsOf(w), SweepCommand.workDir(optsOf(w)), tag, progress = false, prefix = s"${w.key} ")
+            finished(w, c)
+          }
+        }
+      }
+      runs.foreach(Await.result(_, Duration.Inf))
+    } finally pool.shutdown()
+    earlier :+ current.copy(wallSeconds = (System.nanoTime() - t0) / 1e9)
   }
 
   def run(args: Seq[String]): Int = { rawArgs = args; Args.run(ParserForMethods(this), args, name, files = Set("--results")) }

@@ -17,19 +17,31 @@ object ResultsDoc {
   private def opt(x: Option[Double], digits: Int = 3): String = x.map(d(_, digits)).getOrElse("—")
   private def label(c: (Int, Int, Int)) = s"${c._1}/${c._2}/${c._3}"
 
+  /** How the runs were made: one local part's wall time, the sum of several parts', or merged. */
+  def wall(parts: Seq[RunArchive.Part]): String = {
+    def machine(p: RunArchive.Part) = s"--jobs ${p.jobs} on a ${p.cores}-core machine"
+    parts match {
+      case Seq() => " (merged from their result files by --collect, as a Slurm run does)"
+      case Seq(p) => f", ${p.wallSeconds}%.0f s wall with ${machine(p)}"
+      case ps => f", ${ps.map(_.wallSeconds).sum}%.0f s wall in ${ps.size} parts run one after another (their sum; " +
+        ps.map(p => f"part ${p.index}: ${p.runs} runs in ${p.wallSeconds}%.0f s, started ${p.started}, ${machine(p)}").mkString("; ") + ")"
+    }
+  }
+
   /** Writes the page and its charts; returns the files written. */
   def write(file: Path, rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, opts: RtlOptions,
-            wallSeconds: Option[Double], jobs: Int): Seq[Path] = {
+            parts: Seq[RunArchive.Part]): Seq[Path] = {
     val chartDir = Option(file.toAbsolutePath.getParent).getOrElse(file.toAbsolutePath).resolve("results")
     Files.createDirectories(chartDir)
     val charts = rows.map { case (w, rs) => w -> SweepReport.charts(chartDir, w.key, w.title, rs, Some(cost), cost.clockGHz) }
     for ((w, rs) <- rows) Files.write(chartDir.resolve(s"${w.key}-sweep.csv"), SweepReport.csv(rs, Some(cost), cost.clockGHz).getBytes(UTF_8))
-    Files.write(file, markdown(rows, cost, fidelity, quick, opts, wallSeconds, jobs, file, charts).getBytes(UTF_8))
+    Files.write(file, markdown(rows, cost, fidelity, quick, opts, parts, file, charts).getBytes(UTF_8))
     file +: charts.flatMap(_._2)
   }
 
-  def markdown(rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, opts: RtlOptions, wallSeconds: Option[Double],
-               jobs: Int, file: Path, charts: Seq[(EvaluateCommand.Workload, Seq[Path])]): String = {
+  /** `parts`: the local runs that made the rows, one after another (none: merged by `--collect`). */
+  def markdown(rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, opts: RtlOptions, parts: Seq[RunArchive.Part],
+               file: Path, charts: Seq[(EvaluateCommand.Workload, Seq[Path])]): String = {
     val sb = new StringBuilder
     def line(s: String = ""): Unit = sb ++= s + "\n"
     val byKey = rows.map { case (w, rs) => w.key -> rs.map(r => r.c -> r).toMap }.toMap
@@ -41,7 +53,7 @@ object ResultsDoc {
     line()
     line(s"Written by `tools/mapm evaluate${if (quick) " --quick" else ""}` (do not edit by hand; rerun it). " +
       s"${rows.map(_._2.size).sum} RTL runs on ${rows.size} workloads" +
-      wallSeconds.map(s => f", $s%.0f s wall with --jobs $jobs on a ${Runtime.getRuntime.availableProcessors}-core machine").getOrElse(" (merged from their result files by --collect, as a Slurm run does)") + ".")
+      wall(parts) + ".")
     if (quick) line(s"This is the quick run: the ${EvaluateCommand.quickConfigs.map(label).mkString(" and ")} rows of each table alone. `tools/mapm evaluate` runs them all.")
     line()
     line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")

@@ -102,14 +102,14 @@ object SweepCommand extends Command {
     } finally pool.shutdown()
   }
 
-  /** One configuration on a prepared frame: runs it, prints its line, writes its result file. */
-  private def runOne(prep: RtlRun.Prepared, p: MapmParams, c: (Int, Int, Int), opts: RtlOptions, work: Path, log: String => Unit,
-                     progress: Boolean): Unit = {
+  /** One configuration on a prepared frame: runs it, prints its line (after `prefix`), writes its result file. */
+  private[cli] def runOne(prep: RtlRun.Prepared, p: MapmParams, c: (Int, Int, Int), opts: RtlOptions, work: Path, log: String => Unit,
+                          progress: Boolean, prefix: String = ""): Unit = {
     val dir = SweepReport.configDir(work, c)
     val r = RtlRun.runConfig(prep, p, opts.harness(), dir, log, progress)
     val s = r.outcome.stats
     def orNaN(v: Option[Double]): Double = v.getOrElse(Double.NaN)
-    println(f"${p.counts.label}%-8s ${if (r.passed) "PASS" else "FAIL"} cycles ${orNaN(s.map(_.cycles.toDouble))}%.0f " +
+    println(f"$prefix${p.counts.label}%-8s ${if (r.passed) "PASS" else "FAIL"} cycles ${orNaN(s.map(_.cycles.toDouble))}%.0f " +
       f"SO/cycle ${orNaN(s.map(_.soPerCycle))}%.3f TS ops/cycle ${orNaN(s.flatMap(_.tsOpsPerCycle))}%.3f " +
       f"simulated ${orNaN(s.map(_.simulatedCyclesPerSecond))}%.0f cycles/s${if (r.passed) "" else ": " + r.failure}")
     SweepReport.writeResult(dir, SweepReport.TaskResult(p.counts.label, c._1, c._2, c._3, r.passed, if (r.passed) "" else r.failure, r.times))

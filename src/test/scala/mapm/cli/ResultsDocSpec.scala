@@ -10,15 +10,8 @@ import org.scalatest.funsuite.AnyFunSuite
   * arithmetic on the inputs), and the charts on disk and linked. */
 class ResultsDocSpec extends AnyFunSuite {
   /** A stats.json of `cycles` cycles, `so` SOs, `ts` TS ops, `bytes` fetched, `soqMisses` SOQ misses. */
-  private def stats(cycles: Long, so: Long, ts: Long, bytes: Long, soqMisses: Long): HarnessStats = {
-    val caches = SweepReport.caches.map(c => c -> ujson.Obj("hits" -> 900, "misses" -> ujson.Num((if (c == "soq") soqMisses else 100L).toDouble), "hitRate" -> 0.9))
-    HarnessStats.parse(ujson.write(ujson.Obj("top" -> "Mapm_test", "result" -> "PASS", "failure" -> ujson.Null, "seed" -> 1, "latency" -> 100,
-      "latencyMax" -> 100, "queryGap" -> 0, "reqStall" -> 0, "respGap" -> 0, "bandwidthBytesPerCycle" -> 14, "clockGHz" -> 1.5,
-      "cycles" -> ujson.Num((cycles).toDouble), "queries" -> 1000, "queriesCompleted" -> 1000, "soIssued" -> ujson.Num((so).toDouble), "soPassingCond" -> ujson.Num((so / 2).toDouble),
-      "soPerCycle" -> so.toDouble / cycles, "tsOps" -> ujson.Num((ts).toDouble), "tsOpsPerCycle" -> ts.toDouble / cycles, "stallCycles" -> ujson.Obj(),
-      "caches" -> ujson.Obj.from(caches), "memoryRequests" -> ujson.Num((bytes / 32).toDouble), "bytesFetched" -> ujson.Num((bytes).toDouble), "bytesPerCycle" -> bytes.toDouble / cycles,
-      "gbPerSecond" -> 0, "counters" -> ujson.Obj(), "wallSeconds" -> 1, "simulatedCyclesPerSecond" -> ujson.Num((cycles).toDouble))), "test")
-  }
+  private def stats(cycles: Long, so: Long, ts: Long, bytes: Long, soqMisses: Long): HarnessStats =
+    HarnessStats.parse(ujson.write(mapm.testutil.StatsFixture.json(cycles, so, ts, bytes, soqMisses)), "test")
 
   test("evaluate's page: Tables 4.10, 4.8, 4.9, 4.11 and 4.13 side by side, ours from the runs, charts written and linked") {
     val dir = Paths.get("target/results-doc-test")
@@ -38,7 +31,7 @@ class ResultsDocSpec extends AnyFunSuite {
       UnitCostCache.Figures(u, u.toUpperCase + "_x", fmax, area, pj, 0.5, "test", dir.resolve(s"$u.json"))
     val cost = SweepReport.Cost(unit("soa", 6e6, 0.3, 300), unit("tsa", 0.25e6, 0.6, 2), 0.3, "fmax of the slower unit, the SOA")
     val file = dir.resolve("results.md")
-    val files = ResultsDoc.write(file, rows, cost, mapm.params.Fidelity.Timing, quick = true, RtlOptions(), Some(123.0), 2)
+    val files = ResultsDoc.write(file, rows, cost, mapm.params.Fidelity.Timing, quick = true, RtlOptions(), Seq(RunArchive.Part(1, "2026-12-04T10:00Z", 123.0, 2, 2, 8)))
     val md = new String(Files.readAllBytes(file), "UTF-8")
     for (t <- Seq("Table 4.10", "Table 4.8", "Table 4.9", "Table 4.11", "Table 4.13")) assert(md.contains(s"## $t"), t)
     for (w <- ws.tail) assert(md.contains(s"### ${w.title}"))
