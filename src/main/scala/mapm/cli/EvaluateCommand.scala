@@ -17,9 +17,13 @@ import mapm.sim.Harness
   * atrium over Table 4.11's 18) through the RTL as sweeps ([[SweepCommand]]: every run checked,
   * cost by the dissertation's method), then writes `docs/results.md` ([[ResultsDoc]]): Tables
   * 4.8-4.11 and 4.13 with the dissertation's figures and ours side by side, the differences
-  * explained, and the charts of Figures 4.9-4.20. `--quick` runs the 4/4/2 and 16/16/2 rows alone,
-  * with the SOAs as their cycle-exact timing model unless `--fidelity` says otherwise. Runs
-  * `--jobs` at once, or as one Slurm array task per workload and configuration (`--slurm`). */
+  * explained, and the charts of Figures 4.9-4.20. `--quick` runs the 4/4/2 and 16/16/2 rows alone.
+  * The SOAs are their cycle-exact timing model unless `--fidelity` says otherwise (the full RTL's
+  * SOAs would take days over the 8k workloads). Runs `--jobs` at once, or as one Slurm array task
+  * per workload and configuration (`--slurm`). The full run keeps each finished run in
+  * `results/runs/` beside the page ([[RunArchive]]), so it can be run in parts: `--budget MIN`
+  * starts no job after MIN minutes, `--resume` takes the kept runs and runs the rest; the page
+  * states the parts' wall times and their sum. */
 object EvaluateCommand extends Command {
   val name = "evaluate"
   val summary = "the dissertation's chapter 4 evaluation: four workloads through the RTL, docs/results.md with Tables 4.8-4.13"
@@ -41,7 +45,7 @@ object EvaluateCommand extends Command {
 
   @main
   def evaluate(
-      @arg(doc = "the 4/4/2 and 16/16/2 rows alone, SOAs as timing models unless --fidelity is given (minutes once the builds are cached)") quick: Flag,
+      @arg(doc = "the 4/4/2 and 16/16/2 rows alone (minutes once the builds are cached); every run has the SOAs as timing models unless --fidelity is given") quick: Flag,
       @arg(doc = "clock of the throughput, power and GB/s figures: GHz, or 'fmax' (the slower unit's; the default)") clock: Option[String] = None,
       @arg(doc = "configurations run at once on this machine (default: the cores)") jobs: Int = Runtime.getRuntime.availableProcessors,
       @arg(doc = "run each workload and configuration as a task of a Slurm job array and wait for the merged result (docs/cluster.md)") slurm: Flag,
@@ -155,8 +159,9 @@ object EvaluateCommand extends Command {
             val (prep, params) = setups(w)
             val p = params(c)
             val tag = (l: String) => log(s"[${w.key} ${p.counts.label}] $l")
-            buildLocks(c).synchronized(RtlRun.build(p, trace = false, optsOf(w).simThreads, tag))
-            SweepCommand.runOne(prep, p, c, optsOf(w), SweepCommand.workDir(optsOf(w)), tag, progress = false, prefix = s"${w.key} ")
+            val built = buildLocks(c).synchronized(RtlRun.build(p, trace = false, optsOf(w).simThreads, tag)) // a cache hit but for the first
+            SweepCommand.runOne(prep.copy(builds = Map(p -> Future.successful(built))), p, c, optsOf(w), SweepCommand.workDir(optsOf(w)), tag,
+              progress = false, prefix = s"${w.key} ")
             finished(w, c)
           }
         }

@@ -57,9 +57,10 @@ object Harness {
     MapmError.check(configHeader.contains(s"#define MAPM_TOP_NAME \"$top\""), s"$configFile is not the header of $top")
     val formats = CHeader.formats
     val vlt = noInlineConfig(svTexts.mkString("\n"))
+    val designFlags = if (configHeader.contains("#define MAPM_FIDELITY_TIMING 1")) timingFlags else Seq.empty
     val hash = Verilator.hash((svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
       sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+ vlt :+
-      s"trace=$trace threads=$threads" :+ Verilator.optFlags.mkString(" ")): _*)
+      s"trace=$trace threads=$threads" :+ (Verilator.optFlags ++ designFlags).mkString(" ")): _*)
     val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}-$hash")
     val exe = dir.resolve("harness")
     if (fresh) AtomicDir.delete(dir)
@@ -75,13 +76,22 @@ object Harness {
       val config = tmp.resolve("no-inline.vlt")
       Files.write(config, vlt.getBytes(UTF_8))
       Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
-      val flags = Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${tmp.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
+      val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${tmp.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
         (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
       Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, tmp, "harness", flags, ccache = !fresh)
     }
     log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     exe
   }
+
+  /** Verilator flags of a design in timing fidelity. Its SOAs read no photon data, so each SOP L1
+    * data memory is written but never read, and Verilator 5.006 then "localizes" it: the
+    * 1,024 x 256-bit array becomes a local of the per-cycle function, zeroed (VL_ZERO_W) on every
+    * call: 63 % of the time at 2/2/2 (perf), more with more SOMs. `-fno-localize` keeps it a
+    * member: the 2/2/2 Cornell frame ran 4.2 times as fast
+    * (25,400 against 107,000 cycles/s, same 2,889,311 cycles). Not used in full fidelity, where it
+    * cost 6 % more instructions per cycle at 2/1/2 (0.162 M against 0.153 M, bench-sim). */
+  val timingFlags: Seq[String] = Seq("-fno-localize")
 
   /** Modules Verilator must keep as their own classes rather than inline: the replicated units,
     * SOA and TSA (and their conventional counterparts ConvSOA, ConvTSA), and the TSM and SOM that
