@@ -7,6 +7,51 @@ ThisBuild / organization := "mapm"
 
 val chiselVersion = "6.7.0"
 
+/** Forked test JVMs that run at once: MAPM_TEST_JVMS, else one per core up to 2 (more JVMs than
+  * cores only add heap and contention; each Verilator build already uses every core). */
+val testJvms: Int = sys.env.get("MAPM_TEST_JVMS").flatMap(s => scala.util.Try(s.toInt).toOption).filter(_ >= 1)
+  .getOrElse(math.max(1, math.min(2, java.lang.Runtime.getRuntime.availableProcessors)))
+
+// The spec classes run in forked JVMs at once, spread by their measured seconds so that both cores
+// of a small machine stay busy (docs/testing.md). Each class weighs its seconds in
+// project/test-times.tsv (the cold-run profile; `tools/test-profile --write` refreshes it from a
+// run's reports), or 10 s when it is not there yet. The classes go, heaviest first, each to the
+// JVM with the least weight so far (longest processing time first), and each JVM runs its classes
+// heaviest first, so the short ones fill the end. Classes named on one `together` line of the file
+// share files and run in the same JVM, one after the other.
+
+/** Reads project/test-times.tsv: (seconds by class, sets of classes that run together). Lines are
+  * `class<TAB>seconds[<TAB>what it waits on]` or `together<TAB>class<TAB>class...`; `#` starts a
+  * comment; a missing file is an empty profile. */
+def readTestTimes(file: File): (Map[String, Double], Seq[Set[String]]) = {
+  val rows = if (!file.exists) Seq.empty[Seq[String]]
+    else IO.readLines(file).map(_.trim).filter(l => l.nonEmpty && !l.startsWith("#")).map(_.split("\t").toSeq)
+  val together = rows.collect { case Seq("together", names @ _*) => names.toSet }
+  val seconds = rows.collect { case Seq(name, secs, _*) if name != "together" && secs.matches("[0-9.]+") => name -> secs.toDouble }
+  (seconds.toMap, together)
+}
+
+/** The spec classes of `tests` in at most `jvms` groups, as described above; no empty group. */
+def splitTests(tests: Seq[TestDefinition], times: (Map[String, Double], Seq[Set[String]]), jvms: Int): Seq[Seq[TestDefinition]] = {
+  val (seconds, together) = times
+  def weight(t: TestDefinition): Double = seconds.getOrElse(t.name, 10.0)
+  // Units that stay in one JVM: a `together` set, or a class alone.
+  val bound = together.map(s => tests.filter(t => s(t.name))).filter(_.nonEmpty)
+  val boundNames = bound.flatten.map(_.name).toSet
+  val units = bound ++ tests.filterNot(t => boundNames(t.name)).map(Seq(_))
+  val loads = Array.fill(jvms)(0.0)
+  val groups = Array.fill(jvms)(Vector.empty[TestDefinition])
+  for (u <- units.sortBy(u => (-u.map(weight).sum, u.head.name))) {
+    val i = loads.indices.minBy(k => (loads(k), k))
+    loads(i) += u.map(weight).sum
+    groups(i) ++= u
+  }
+  groups.toSeq.filter(_.nonEmpty).map(_.sortBy(t => (-weight(t), t.name)))
+}
+
+def onPath(tool: String): Boolean =
+  sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => new java.io.File(d, tool).canExecute)
+
 lazy val root = (project in file("."))
   .settings(
     name := "mapm",
@@ -33,7 +78,21 @@ lazy val root = (project in file("."))
     Compile / run / javaOptions ++= Seq("-Xss16m", "-Xmx8g", s"-Dmapm.root=${baseDirectory.value}"),
     Compile / mainClass := Some("mapm.cli.Main"),
     Test / fork := true,
-    Test / javaOptions ++= Seq("-Xss16m", "-Xmx8g", s"-Dmapm.root=${baseDirectory.value}"),
+    Test / javaOptions ++= Seq("-Xss16m", "-Xmx6g", "-XX:+UseParallelGC", s"-Dmapm.root=${baseDirectory.value}"),
+    // chiseltest's Verilator builds go through ccache too (its make reads OBJCACHE), paths taken
+    // relative to the checkout so that a fresh clone hits the cache of an earlier one.
+    Test / envVars ++= (if (onPath("ccache")) Map("OBJCACHE" -> "ccache", "CCACHE_BASEDIR" -> baseDirectory.value.getAbsolutePath)
+                        else Map.empty[String, String]),
     Test / parallelExecution := false,
+    // The spec classes in `testJvms` forked JVMs at once, spread by their measured seconds (above).
+    Test / testGrouping := {
+      val opts = ForkOptions().withRunJVMOptions((Test / javaOptions).value.toVector)
+        .withEnvVars((Test / envVars).value).withWorkingDirectory(baseDirectory.value)
+      val times = readTestTimes(baseDirectory.value / "project" / "test-times.tsv")
+      val groups = splitTests((Test / definedTests).value, times, testJvms)
+      groups.zipWithIndex.map { case (tests, i) => Tests.Group(s"jvm-${i + 1}", tests, Tests.SubProcess(opts)) }
+    },
     Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD")
   )
+
+Global / concurrentRestrictions += Tags.limit(Tags.ForkedTestGroup, testJvms)

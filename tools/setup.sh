@@ -16,7 +16,9 @@ mapm_apt_install() {
     mapm_die "cannot install '$*' (need root and apt-get); install it by hand"
   fi
   echo "mapm setup: installing $* from Debian's packages ..." >&2
-  if ! { apt-get install -y -qq "$@" >/dev/null 2>&1 || { apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq "$@" >/dev/null 2>&1; }; }; then
+  # Waits for dpkg's lock (up to 10 minutes) rather than failing while another install runs.
+  local wait=(-o DPkg::Lock::Timeout=600)
+  if ! { apt-get install "${wait[@]}" -y -qq "$@" >/dev/null 2>&1 || { apt-get update "${wait[@]}" -qq >/dev/null 2>&1 && apt-get install "${wait[@]}" -y -qq "$@" >/dev/null 2>&1; }; }; then
     mapm_die "apt-get install $* failed; install it by hand"
   fi
 }

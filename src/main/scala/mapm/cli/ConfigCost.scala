@@ -70,7 +70,7 @@ object ConfigCost {
     val kept = (blocksOf ++ parts ++ caches).distinct
     log(s"synthesizing $top: ${kept.size} parts and blocks kept whole, ${mems.size} SRAM arrays as black boxes ...")
     val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
-    val (syn, synSecs) = Synthesis.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
+    val (syn, synSecs) = SynthesisCache.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
       flatten = false, blackbox = mems, keep = kept)
     val r = syn.head
     val own = ModuleCells.read(r.json, flow.library)

@@ -30,7 +30,7 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
   def synthesize(svFile: Path, top: String): (Synthesis.Result, Seq[(String, Double)], Double) = {
     val scripts = if (abc == "both") Synthesis.AbcScripts else Seq(abc)
     val delayPs = math.round(1000.0 / clocksGHz.max).toInt
-    val (runs, seconds) = Synthesis.run(Seq(svFile), top, libPath, delayPs, scripts, out.resolve("synth"))
+    val (runs, seconds) = SynthesisCache.run(Seq(svFile), top, libPath, delayPs, scripts, out.resolve("synth"))
     val tried = runs.map { r =>
       Future {
         val f = Sta.run(Seq(r.verilog), top, libPath, Seq(clocksGHz.max), r.dir.resolve("sta"), Seq.empty, Seq.empty).fmaxGHz
@@ -58,7 +58,7 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
     val area = netlist.area(library)
     val rtl = if (Verilator.available) {
       log(s"building the RTL of ${u.top} in Verilator (for the gate-level check) ...")
-      Some(VerilatorPipe.build(u.module(), CostTools.root.resolve("target/verilator-pipe")))
+      Some(VerilatorPipe.build(u.module()))
     } else None
     MapmError.check(rtl.isDefined || u.checksModel, s"cost: --unit ${u.kind} is checked against its RTL, and verilator is not installed")
     log(s"gate-level simulation of ${ops.length} operations ...")

@@ -5,13 +5,14 @@ import java.nio.file.{Files, Path}
 
 import mapm.MapmError
 import mapm.model.{Arith, FloatFormat}
-import mapm.sim.{AtomicDir, Harness, MapmRtl, Verilator}
+import mapm.cost.CostTools
+import mapm.sim.{BuildCache, Harness, MapmRtl}
 
 /** The SOA's and TSA's cost figures for cost-aware sweeps, by the dissertation's method (Table
   * 4.9: unit figures times counts). Each unit goes through the cost flow ([[CostFlow]], the same
   * defaults as `tools/mapm cost --unit soa|tsa`) once per format, guard digits and arithmetic, and
-  * the result is kept under `target/cost-units/<top>-<hash>/cost.json`; the hash covers the flow's
-  * settings and the generator and cost-flow sources, so a sweep, its later runs and `evaluate`
+  * the result is kept in the [[mapm.sim.BuildCache]] (kind `cost-units`, `cost.json`); the key covers
+  * the flow's settings, the generator and cost-flow sources and the tools' versions, so a sweep, its later runs and `evaluate`
   * never synthesize the same unit twice. The operations come from the default scene's frame
   * (the Table 4.8 Cornell box) in the format, or seeded random ones where the format cannot hold
   * that frame. */
@@ -33,19 +34,15 @@ object UnitCostCache {
     val cu = CostUnits(unit, format, g, mapm.params.NumberParams.DefaultFpuStageWeight, arith)
     val cli = Harness.root.resolve("src/main/scala/mapm/cli")
     val sources = costSources.map(f => f + new String(Files.readAllBytes(cli.resolve(f)), UTF_8))
-    val key = Verilator.hash((Seq(cu.top, unit, format.toString, g.toString, arith.name, CostFlow.defaultClocks.mkString(","), "both",
-      ops.toString, seed.toString, RenderCommand.defaultScene, MapmRtl.hardwareSourceHash) ++ sources): _*)
-    val dir = Harness.root.resolve("target/cost-units").resolve(s"${cu.top}-$key")
-    if (!Files.isRegularFile(dir.resolve("cost.json"))) {
-      AtomicDir.delete(dir)
-      log(s"cost of the $unit ${cu.top} through the cost flow (once; cached in $dir) ...")
-      AtomicDir.create(dir) { tmp =>
-        val frame = try Some(CostFlow.frame(Harness.root.resolve(RenderCommand.defaultScene).toString, format)) catch { case _: MapmError => None }
-        val source = if (frame.isDefined) s"SOs/TS ops of ${RenderCommand.defaultScene}" else s"random operations (seed $seed)"
-        val flow = CostFlow(None, CostFlow.defaultClocks, "both", tmp)
-        val online = arith == Arith.Online
-        flow.unit(cu, format, if (unit == "soa" && online) Some(g) else None, CostUnits.ops(cu, format, g, frame, ops, seed, arith), seed, source)
-      }
+    val inputs = Seq(cu.top, unit, format.toString, g.toString, arith.name, CostFlow.defaultClocks.mkString(","), "both",
+      ops.toString, seed.toString, RenderCommand.defaultScene, MapmRtl.hardwareSourceHash) ++ sources ++ Seq(CostTools.versions)
+    val dir = BuildCache.entry("cost-units", cu.top, inputs, d => Files.isRegularFile(d.resolve("cost.json"))) { tmp =>
+      log(s"cost of the $unit ${cu.top} through the cost flow (once; cached in ${BuildCache.root.resolve("cost-units")}) ...")
+      val frame = try Some(CostFlow.frame(Harness.root.resolve(RenderCommand.defaultScene).toString, format)) catch { case _: MapmError => None }
+      val source = if (frame.isDefined) s"SOs/TS ops of ${RenderCommand.defaultScene}" else s"random operations (seed $seed)"
+      val flow = CostFlow(None, CostFlow.defaultClocks, "both", tmp)
+      val online = arith == Arith.Online
+      flow.unit(cu, format, if (unit == "soa" && online) Some(g) else None, CostUnits.ops(cu, format, g, frame, ops, seed, arith), seed, source)
     }
     read(unit, dir.resolve("cost.json"))
   }

@@ -23,6 +23,14 @@ object CostTools {
   /** The tools, installing them when missing; a [[MapmError]] with the reason when that fails. */
   def get: Paths3 = found.fold(msg => MapmError.fail(msg), identity)
 
+  /** The tools' identities, for keys of cached results: the yosys venv (named by its pyosys
+    * version), OpenSTA's `-version` and the Liberty file's size. */
+  lazy val versions: String = {
+    val t = get
+    val sta = scala.util.Try(scala.sys.process.Process(Seq(t.sta.toString, "-version")).!!.trim).getOrElse("unknown")
+    s"yosys=${t.yosysPython} sta=$sta liberty=${java.nio.file.Files.size(t.osu018Lib)}"
+  }
+
   /** Whether the tools are there (installing them if they can be): for tests that cancel without. */
   def available: Either[String, Paths3] = found
 }

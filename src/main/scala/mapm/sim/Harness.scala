@@ -13,9 +13,9 @@ import scala.sys.process._
   * [[build]] verilates a directory of emitted SystemVerilog together with the harness sources,
   * the configuration's `mapm_config.h` from that directory (the top's class, port accessors and
   * counters, generated from the parameters) and the generated `mapm_formats.h` (the file records,
-  * [[CHeader.formats]]). Builds are cached under `target/harness/<name>-<hash>/`, the hash covering
-  * the Verilog, the harness sources, both headers and the trace flag, so a changed configuration
-  * rebuilds only itself. [[run]] starts the harness, turns its `progress` lines into a progress
+  * [[CHeader.formats]]). Builds are kept in the [[BuildCache]] (kind `harness`), keyed by the
+  * Verilog, the harness sources, both headers, the flags and the tools' versions, so a changed
+  * configuration rebuilds only itself and every spec, command and checkout shares the build. [[run]] starts the harness, turns its `progress` lines into a progress
   * bar and returns its verdict and stats.
   */
 object Harness {
@@ -58,19 +58,17 @@ object Harness {
     val formats = CHeader.formats
     val vlt = noInlineConfig(svTexts.mkString("\n"))
     val designFlags = if (configHeader.contains("#define MAPM_FIDELITY_TIMING 1")) timingFlags else Seq.empty
-    val hash = Verilator.hash((svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
+    val inputs = svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
       sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+ vlt :+
-      s"trace=$trace threads=$threads" :+ (Verilator.optFlags ++ designFlags).mkString(" ")): _*)
-    val dir = root.resolve("target/harness").resolve(s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}-$hash")
-    val exe = dir.resolve("harness")
-    if (fresh) AtomicDir.delete(dir)
-    else if (Files.isExecutable(exe)) return exe
-    else AtomicDir.delete(dir) // a build of an older version that stopped half-way (they were not atomic)
-    log(s"verilating $top into $dir (cached for later runs) ...")
+      s"trace=$trace threads=$threads" :+ (Verilator.optFlags ++ designFlags).mkString(" ")
+    val name = s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}"
     val t0 = System.nanoTime()
-    // Built in a private folder and renamed into place: concurrent builds of one configuration
-    // (local jobs, Slurm array tasks) never see each other's half-built files.
-    AtomicDir.create(dir) { tmp =>
+    var built = false
+    // Built in a private folder and renamed into place under the cache's lock: concurrent builds
+    // of one configuration (local jobs, Slurm array tasks, parallel specs) build it once.
+    val dir = BuildCache.entry("harness", name, inputs, d => Files.isExecutable(d.resolve("harness")), rebuild = fresh) { tmp =>
+      built = true
+      log(s"verilating $top into ${BuildCache.root.resolve("harness")} (cached for later runs) ...")
       Files.write(tmp.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
       val fileList = tmp.resolve("files.f")
       val config = tmp.resolve("no-inline.vlt")
@@ -80,8 +78,8 @@ object Harness {
         (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
       Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, tmp, "harness", flags, ccache = !fresh)
     }
-    log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
-    exe
+    if (built) log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
+    dir.resolve("harness")
   }
 
   /** Verilator flags of a design in timing fidelity. Its SOAs read no photon data, so each SOP L1

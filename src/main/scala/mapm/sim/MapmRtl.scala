@@ -7,10 +7,10 @@ import mapm.params.MapmParams
 import mapm.top.Mapm
 import scala.jdk.CollectionConverters._
 
-/** The emitted SystemVerilog of a whole MAPM, cached per configuration under
-  * `target/emit/<Mapm_name>-<hash>/`; the hash covers the parameters and the hardware sources
-  * (everything under src/main/scala/mapm except the model, CLI and simulation code), so a
-  * changed generator re-emits. Beside the Verilog it writes `mapm_config.h` ([[HarnessHeader]]). */
+/** The emitted SystemVerilog of a whole MAPM, cached per configuration in the [[BuildCache]]
+  * (kind `emit`); the key covers the parameters, the hardware sources (everything under
+  * src/main/scala/mapm except the model, CLI and simulation code) and the Chisel and firtool
+  * versions, so a changed generator re-emits. Beside the Verilog it writes `mapm_config.h` ([[HarnessHeader]]). */
 object MapmRtl {
   def topName(p: MapmParams): String = s"Mapm_${p.name}"
 
@@ -27,15 +27,11 @@ object MapmRtl {
     * step: [[AtomicDir]]) and its top module. */
   def emit(p: MapmParams, log: String => Unit = _ => ()): (Path, String) = {
     val top = topName(p)
-    val dir = Harness.root.resolve("target/emit").resolve(s"$top-${Verilator.hash(p.toString, hardwareSourceHash)}")
-    if (!Files.isRegularFile(dir.resolve(s"$top.sv"))) {
-      AtomicDir.delete(dir) // an emit of an older version that stopped half-way (they were not atomic)
+    val dir = BuildCache.entry("emit", top, Seq(p.toString, hardwareSourceHash), d => Files.isRegularFile(d.resolve(s"$top.sv"))) { tmp =>
       log(s"emitting $top ...")
       val t0 = System.nanoTime()
-      AtomicDir.create(dir) { tmp =>
-        Emit.toFile(new Mapm(p), tmp, s"$top.sv")
-        Files.write(tmp.resolve("mapm_config.h"), HarnessHeader(p).getBytes(UTF_8))
-      }
+      Emit.toFile(new Mapm(p), tmp, s"$top.sv")
+      Files.write(tmp.resolve("mapm_config.h"), HarnessHeader(p).getBytes(UTF_8))
       log(f"emitted in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     }
     (dir, top)

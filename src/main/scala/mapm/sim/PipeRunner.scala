@@ -40,7 +40,7 @@ final class PipeRunner[Op, Res] private (pipe: VerilatorPipe, val latency: Int, 
 object PipeRunner {
   /** A runner of `gen` on the ports `in` and `out`, whose results leave `latency` cycles after
     * their operations (`encode` and `decode` as in [[PipeRunner]]). */
-  def apply[M <: RawModule, Op, Res](gen: => M, latency: Int, cacheDir: Path = VerilatorPipe.defaultCache)(
+  def apply[M <: RawModule, Op, Res](gen: => M, latency: Int, cacheDir: Option[Path] = None)(
       in: M => Valid[_ <: Data], out: M => Valid[_ <: Data])(
       encode: Op => Seq[BigInt], decode: (IndexedSeq[BigInt], Long) => Res): PipeRunner[Op, Res] =
     new PipeRunner(VerilatorPipe.of(gen, cacheDir)(in, out), latency, encode, decode)

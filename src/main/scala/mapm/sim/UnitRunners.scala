@@ -63,7 +63,7 @@ object TsaRunner {
 
   /** Outputs for each (p, h, s) bit-pattern triple, streamed back to back, in order. */
   def run(fmt: FloatFormat, ops: IndexedSeq[(Long, Long, Long)],
-          cacheDir: Path = VerilatorPipe.defaultCache, arith: Arith = Arith.Online): IndexedSeq[Outcome] = {
+          cacheDir: Option[Path] = None, arith: Arith = Arith.Online): IndexedSeq[Outcome] = {
     val add = FpuDepth.of(fmt).add
     val latency = TsaUnit.latency(fmt, arith, add)
     val runner = PipeRunner(TsaUnit(fmt, tagWidth, stallable = false, arith, add), latency, cacheDir)(_.io.in, _.io.out)(

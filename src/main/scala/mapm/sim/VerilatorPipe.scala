@@ -8,7 +8,8 @@ import mapm.MapmError
 /** Runs an emitted (CIRCT) SystemVerilog module cycle by cycle in Verilator, streaming port values.
   *
   * [[VerilatorPipe.build]] emits the module, writes a C++ harness specialised to its ports and
-  * verilates both (cached by a hash of the Verilog, so a second build of the same design is free).
+  * verilates both (cached by a hash of the Verilog in the [[BuildCache]], so a second build of the
+  * same design, by any spec or command, is free).
   * [[run]] then feeds one row per clock cycle: the values of the pipe's [[inputs]], in that order.
   * For each row the harness applies the inputs, evaluates, records the [[outputs]] (in that order:
   * the values a test bench would peek in that cycle before the clock edge) and then clocks once.
@@ -104,18 +105,16 @@ final class VerilatorPipe private (val exe: Path, val top: String, harnessInputs
 }
 
 object VerilatorPipe {
-  /** Default build cache: `target/verilator-pipe/<top>-<hash>` under the working directory. */
-  def defaultCache: Path = Paths.get("target", "verilator-pipe")
-
-  /** Emits `gen`, generates its harness and verilates it (cached by content) under `cacheDir`.
+  /** Emits `gen`, generates its harness and verilates it, cached by content: in the
+    * [[BuildCache]] (kind `pipe`), or in the folder `cacheDir` when one is given.
     * Modules whose names start with one of `noInline` stay their own C++ classes instead of being
     * inlined: for a design of many copies of one unit this compiles the unit once (a bench of 64
     * CondChecks builds in seconds rather than minutes). */
-  def build(gen: => chisel3.RawModule, cacheDir: Path = defaultCache, noInline: Seq[String] = Seq.empty): VerilatorPipe =
+  def build(gen: => chisel3.RawModule, cacheDir: Option[Path] = None, noInline: Seq[String] = Seq.empty): VerilatorPipe =
     fromVerilog(Emit.systemVerilog(gen), cacheDir, noInline)
 
   /** Builds the pipe for already-emitted SystemVerilog text (`noInline` as in [[build]]). */
-  def fromVerilog(sv: String, cacheDir: Path, noInline: Seq[String] = Seq.empty): VerilatorPipe = {
+  def fromVerilog(sv: String, cacheDir: Option[Path], noInline: Seq[String] = Seq.empty): VerilatorPipe = {
     val (top, ports) = Emit.topPorts(sv)
     val ins = ports.filter(p => p.isInput && p.name != "clock" && p.name != "reset")
     val outs = ports.filterNot(_.isInput)
@@ -123,18 +122,23 @@ object VerilatorPipe {
     val harness = harnessSource(top, ins, outs, hasReset = ports.exists(_.name == "reset"))
     val kept = """(?m)^module\s+(\w+)""".r.findAllMatchIn(sv).map(_.group(1)).filter(m => noInline.exists(m.startsWith)).toSeq.distinct
     val config = if (kept.isEmpty) "" else ("`verilator_config" +: kept.map(m => s"""no_inline -module "$m"""")).mkString("", "\n", "\n")
-    val dir = cacheDir.resolve(s"$top-${Verilator.hash(sv, harness, config)}").toAbsolutePath
-    val exe = dir.resolve("sim")
-    if (!Files.isExecutable(exe)) {
-      Files.createDirectories(dir)
-      val svFile = dir.resolve(s"$top.sv")
-      val cpp = dir.resolve("harness.cpp")
+    def fill(d: Path): Unit = {
+      val svFile = d.resolve(s"$top.sv")
+      val cpp = d.resolve("harness.cpp")
       Files.write(svFile, sv.getBytes(StandardCharsets.UTF_8))
       Files.write(cpp, harness.getBytes(StandardCharsets.UTF_8))
       val vlt = if (config.isEmpty) Seq.empty else {
-        val f = dir.resolve("no-inline.vlt"); Files.write(f, config.getBytes(StandardCharsets.UTF_8)); Seq(f)
+        val f = d.resolve("no-inline.vlt"); Files.write(f, config.getBytes(StandardCharsets.UTF_8)); Seq(f)
       }
-      Verilator.build(vlt :+ svFile, cpp, top, dir, "sim")
+      Verilator.build(vlt :+ svFile, cpp, top, d, "sim")
+    }
+    val built = (d: Path) => Files.isExecutable(d.resolve("sim"))
+    val exe = cacheDir match {
+      case None => BuildCache.entry("pipe", top, Seq(sv, harness, config), built)(fill).resolve("sim")
+      case Some(c) =>
+        val d = c.resolve(s"$top-${Verilator.hash(sv, harness, config)}").toAbsolutePath
+        if (!built(d)) { AtomicDir.delete(d); AtomicDir.create(d)(fill) }
+        d.resolve("sim")
     }
     new VerilatorPipe(exe, top, ins, outs, ins, outs)
   }
@@ -144,7 +148,7 @@ object VerilatorPipe {
     * Chisel declares them: a Valid's `valid` before its `bits`, a Vec's elements by index), e.g.
     * `of(new FMul(fmt))(_.io.in, _.io.out)` has rows (valid, a, b) and outputs (valid, bits).
     * Inputs outside `in` are held at 0. */
-  def of[M <: chisel3.RawModule](gen: => M, cacheDir: Path = defaultCache, noInline: Seq[String] = Seq.empty)(
+  def of[M <: chisel3.RawModule](gen: => M, cacheDir: Option[Path] = None, noInline: Seq[String] = Seq.empty)(
       in: M => chisel3.Data, out: M => chisel3.Data): VerilatorPipe = {
     var dut: Option[M] = None
     val sv = Emit.systemVerilog { val m = gen; dut = Some(m); m }

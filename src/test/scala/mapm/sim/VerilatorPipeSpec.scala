@@ -22,7 +22,7 @@ class VerilatorPipeSpec extends AnyFunSuite {
 
   test("streams random rows through an emitted design with 2 cycles of latency") {
     val dir = java.nio.file.Files.createTempDirectory("pipe")
-    val pipe = VerilatorPipe.build(new Dut, dir)
+    val pipe = VerilatorPipe.build(new Dut, Some(dir))
     val rnd = new scala.util.Random(3)
     val rows = IndexedSeq.fill(500)(Array(BigInt(1, rnd), BigInt(7, rnd), BigInt(64, rnd), BigInt(100, rnd)))
     val byName = pipe.inputs.map(_.name)
@@ -42,10 +42,10 @@ class VerilatorPipeSpec extends AnyFunSuite {
 
   test("a typed pipe takes the leaves of the chosen fields in field order and holds other inputs at 0") {
     val dir = java.nio.file.Files.createTempDirectory("pipe")
-    val bits = VerilatorPipe.of(new Dut, dir)(_.io.in.bits, _.io.out.bits)
+    val bits = VerilatorPipe.of(new Dut, Some(dir))(_.io.in.bits, _.io.out.bits)
     assert(bits.inputs.map(_.name) == Seq("io_in_bits_a", "io_in_bits_b", "io_in_bits_w"))
     assert(bits.outputs.map(_.name) == Seq("io_out_bits_sum", "io_out_bits_x", "io_out_bits_w"))
-    val valid = VerilatorPipe.of(new Dut, dir)(_.io.in, _.io.out.valid)
+    val valid = VerilatorPipe.of(new Dut, Some(dir))(_.io.in, _.io.out.valid)
     assert(valid.inputs.map(_.name) == Seq("io_in_valid", "io_in_bits_a", "io_in_bits_b", "io_in_bits_w"))
     val rnd = new scala.util.Random(5)
     val rows = IndexedSeq.fill(100)(Array(BigInt(7, rnd), BigInt(64, rnd), BigInt(100, rnd)))
@@ -53,9 +53,9 @@ class VerilatorPipeSpec extends AnyFunSuite {
     for (t <- 2 until rows.length) assert(outs(t)(0) == rows(t - 2)(0) + 1 && outs(t)(1) == (~rows(t - 2)(1) & ((BigInt(1) << 64) - 1)))
     assert(valid.runAll(Seq.fill(5)(Array(BigInt(1), BigInt(0), BigInt(0), BigInt(0)))).map(_.toSeq) ==
       Seq(0, 0, 1, 1, 1).map(v => Seq(BigInt(v))), "valid follows its input two cycles later")
-    val unbound = VerilatorPipe.of(new Dut, dir)(_.io.in.bits, _.io.out).runAll(rows)
+    val unbound = VerilatorPipe.of(new Dut, Some(dir))(_.io.in.bits, _.io.out).runAll(rows)
     assert(unbound.forall(o => o.length == 4 && o(0) == 0), "in.valid, outside the chosen field, stays 0")
-    val outer = VerilatorPipe.of(new Outer, dir)(_.io, _.io)
+    val outer = VerilatorPipe.of(new Outer, Some(dir))(_.io, _.io)
     assert(outer.inputs.map(_.name) == Seq("io_a_0", "io_a_1") && outer.outputs.map(_.name) == Seq("io_y_0", "io_y_1"))
   }
 
@@ -75,7 +75,7 @@ class VerilatorPipeSpec extends AnyFunSuite {
     val rnd = new scala.util.Random(4)
     val rows = IndexedSeq.fill(200)(Array(BigInt(8, rnd), BigInt(8, rnd)))
     for (keep <- Seq(Seq.empty, Seq("PipeInner"))) {
-      val pipe = VerilatorPipe.build(new Outer, dir, noInline = keep)
+      val pipe = VerilatorPipe.build(new Outer, Some(dir), noInline = keep)
       val obj = pipe.exe.getParent.resolve("obj")
       assert(java.nio.file.Files.exists(obj.resolve("VPipeOuter_PipeInner.h")) == keep.nonEmpty, s"noInline = $keep")
       val outs = pipe.runAll(rows)

@@ -15,8 +15,8 @@ import org.scalatest.TestSuite
   *    writes an FST per test under test_run_dir/. `MAPM_SIM=treadle` runs on the built-in
   *    interpreter instead of Verilator (slow; for machines without Verilator).
   *  - [[pipe]]: a typed [[mapm.sim.VerilatorPipe]] for streaming millions of rows, one per cycle,
-  *    through the emitted SystemVerilog (always Verilator, builds cached under
-  *    target/verilator-pipe).
+  *    through the emitted SystemVerilog (always Verilator, builds kept in the build cache,
+  *    [[mapm.sim.BuildCache]]).
   *
   * The Verilator runners of whole units in [[mapm.sim]] (SoaRunner, ShaderChainRunner,
   * TsaRunner), which the CLI shares, are built on the same typed pipe.
