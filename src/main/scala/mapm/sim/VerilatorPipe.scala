@@ -134,9 +134,9 @@ object VerilatorPipe {
     }
     val built = (d: Path) => Files.isExecutable(d.resolve("sim"))
     val exe = cacheDir match {
-      case None => BuildCache.entry("pipe", top, Seq(sv, harness, config), built)(fill).resolve("sim")
+      case None => BuildCache.entry("pipe", top, Seq(sv, harness, config, Verilator.optFlags.mkString(" ")), built)(fill).resolve("sim")
       case Some(c) =>
-        val d = c.resolve(s"$top-${Verilator.hash(sv, harness, config)}").toAbsolutePath
+        val d = c.resolve(s"$top-${Verilator.hash(sv, harness, config, Verilator.optFlags.mkString(" "))}").toAbsolutePath
         if (!built(d)) { AtomicDir.delete(d); AtomicDir.create(d)(fill) }
         d.resolve("sim")
     }
