@@ -86,7 +86,10 @@ lazy val root = (project in file("."))
     Test / envVars += "MAPM_CXX_OPT" -> "-O1",
     Test / envVars ++= (if (onPath("ccache")) Map("OBJCACHE" -> "ccache", "CCACHE_BASEDIR" -> baseDirectory.value.getAbsolutePath)
                         else Map.empty[String, String]),
-    Test / parallelExecution := false,
+    // The groups below run at once (parallelExecution lets sbt start them together); the spec
+    // classes within one JVM run one after the other (testForkedParallel).
+    Test / parallelExecution := true,
+    Test / testForkedParallel := false,
     // The spec classes in `testJvms` forked JVMs at once, spread by their measured seconds (above).
     Test / testGrouping := {
       val opts = ForkOptions().withRunJVMOptions((Test / javaOptions).value.toVector)
@@ -98,4 +101,9 @@ lazy val root = (project in file("."))
     Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD")
   )
 
-Global / concurrentRestrictions += Tags.limit(Tags.ForkedTestGroup, testJvms)
+// sbt's defaults run one forked test group at a time (Tags.limit(ForkedTestGroup, 1)); these
+// replace them, keeping the rest of the defaults.
+Global / concurrentRestrictions := Seq(
+  Tags.limitAll(math.max(testJvms, java.lang.Runtime.getRuntime.availableProcessors)),
+  Tags.limit(Tags.ForkedTestGroup, testJvms),
+  Tags.exclusiveGroup(Tags.Clean))
