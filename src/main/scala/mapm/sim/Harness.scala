@@ -69,12 +69,15 @@ object Harness {
     val dir = BuildCache.entry("harness", name, inputs, d => Files.isExecutable(d.resolve("harness")), rebuild = fresh) { tmp =>
       built = true
       log(s"verilating $top into ${BuildCache.root.resolve("harness")} (cached for later runs) ...")
+      // Both headers beside the build (not -I of the emit folder), so that every path the compiler
+      // sees is the same for every configuration and ccache shares the run-time library's objects.
       Files.write(tmp.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
+      Files.write(tmp.resolve("mapm_config.h"), configHeader.getBytes(UTF_8))
       val fileList = tmp.resolve("files.f")
       val config = tmp.resolve("no-inline.vlt")
       Files.write(config, vlt.getBytes(UTF_8))
       Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
-      val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${tmp.toAbsolutePath} -I${svDir.toAbsolutePath} -std=c++17") ++
+      val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${tmp.toAbsolutePath} -std=c++17") ++
         (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
       Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, tmp, "harness", flags, ccache = !fresh)
     }
