@@ -2,7 +2,7 @@ package mapm.sim
 
 import java.io.{BufferedReader, BufferedWriter, InputStreamReader, OutputStreamWriter}
 import java.nio.charset.StandardCharsets
-import java.nio.file.{Files, Path, Paths}
+import java.nio.file.{Files, Path}
 import mapm.MapmError
 
 /** Runs an emitted (CIRCT) SystemVerilog module cycle by cycle in Verilator, streaming port values.
