@@ -15,7 +15,8 @@ import mapm.sim.Harness
 /** `mapm evaluate`: the dissertation's chapter 4 evaluation, reproduced. Runs its four workloads
   * (Cornell box 2k over Table 4.8's 24 configurations; Cornell box 8k, Sponza corridor and Sponza
   * atrium over Table 4.11's 18) through the RTL as sweeps ([[SweepCommand]]: every run checked,
-  * cost by the dissertation's method), then writes `docs/results.md` ([[ResultsDoc]]): Tables
+  * cost by the dissertation's method), then writes the results page ([[ResultsDoc]]; `out/results.md`,
+  * or the `--results` file such as the committed `docs/results.md`): Tables
   * 4.8-4.11 and 4.13 with the dissertation's figures and ours side by side, the differences
   * explained, and the charts of Figures 4.9-4.20. `--quick` runs the 4/4/2 and 16/16/2 rows alone.
   * The SOAs are their cycle-exact timing model unless `--fidelity` says otherwise (the full RTL's
@@ -26,7 +27,7 @@ import mapm.sim.Harness
   * states the parts' wall times and their sum. */
 object EvaluateCommand extends Command {
   val name = "evaluate"
-  val summary = "the dissertation's chapter 4 evaluation: four workloads through the RTL, docs/results.md with Tables 4.8-4.13"
+  val summary = "the dissertation's chapter 4 evaluation: four workloads through the RTL, a results page (out/results.md; --results docs/results.md for the committed one) with Tables 4.8-4.13"
 
   /** A workload: its key, title, scene file (relative to the checkout) and configurations. */
   final case class Workload(key: String, title: String, scene: String, configs: Seq[(Int, Int, Int)])
@@ -52,7 +53,7 @@ object EvaluateCommand extends Command {
       @arg(doc = "Slurm partition for --slurm (default: the cluster's)") partition: Option[String] = None,
       @arg(doc = "internal: run job N alone (a Slurm array task)") task: Option[Int] = None,
       @arg(doc = "internal: merge the jobs' results into the results page (the Slurm collect step)") collect: Flag,
-      @arg(doc = "the results page to write (its charts go beside it, in results/; the full run keeps each finished run in results/runs/)") results: String = "docs/results.md",
+      @arg(doc = "the results page to write (default: results.md in --out; the committed page is docs/results.md, written only when named here); its charts go beside it, in results/, and the full run keeps each finished run in results/runs/") results: Option[String] = None,
       @arg(doc = "take the runs an earlier full run (or part of one) kept in results/runs/ with the same code and options, and run the rest") resume: Flag,
       @arg(doc = "start no job after this many minutes; the runs left are for a later --resume (exit status 2)") budget: Option[Double] = None,
       opts: RtlOptions
@@ -62,7 +63,7 @@ object EvaluateCommand extends Command {
     Slurm.checkOptions(name, jobs, slurm.value, partition, task, collect.value)
     opts.harness() // checks the memory model's options before any work
     val fixedClock = SweepCommand.parseClock(clock)
-    val resultsFile = Paths.get(results)
+    val resultsFile = resultsPath(results, opts.out)
     val fid = if (!rawArgs.exists(_.startsWith("--fidelity"))) Fidelity.Timing else opts.fidelity
     MapmError.check(budget.forall(_ > 0), s"evaluate: --budget must be a positive number of minutes, got ${budget.getOrElse(0.0)}")
     MapmError.check(!(quick.value && (resume.value || budget.isDefined)), "evaluate: --resume and --budget are for the full run, not --quick")
@@ -94,7 +95,7 @@ object EvaluateCommand extends Command {
         val missing = jobsList.filterNot { case (w, c) => Files.isRegularFile(SweepReport.configDir(SweepCommand.workDir(optsOf(w)), c).resolve("result.json")) }
         if (missing.nonEmpty && !collect.value) {
           System.err.println(s"mapm: evaluate: ${jobsList.size - missing.size} of ${jobsList.size} runs done, ${missing.size} left after the " +
-            s"--budget; `tools/mapm evaluate --resume` (same options) runs the rest and then writes $results")
+            s"--budget; `tools/mapm evaluate --resume` (same options) runs the rest and then writes $resultsFile")
           return 2
         }
         val rows = ws.map(w => w -> w.configs.map(SweepReport.readRow(SweepCommand.workDir(optsOf(w)), _)))
@@ -170,6 +171,11 @@ object EvaluateCommand extends Command {
     } finally pool.shutdown()
     earlier :+ current.copy(wallSeconds = (System.nanoTime() - t0) / 1e9)
   }
+
+  /** The page to write: `--results` when given, else `results.md` in the output folder, so that a
+    * trial run (`--quick` above all) never replaces the committed docs/results.md unasked. */
+  def resultsPath(results: Option[String], out: String): java.nio.file.Path =
+    results.map(Paths.get(_)).getOrElse(Paths.get(out).resolve("results.md"))
 
   def run(args: Seq[String]): Int = { rawArgs = args; Args.run(ParserForMethods(this), args, name, files = Set("--results")) }
 }
