@@ -75,7 +75,8 @@ lazy val root = (project in file("."))
     ),
     Compile / run / fork := true,
     Compile / run / connectInput := true,
-    Compile / run / javaOptions ++= Seq("-Xss16m", "-Xmx8g", s"-Dmapm.root=${baseDirectory.value}"),
+    // A bare `sbt run` emits the default configuration's Verilog (mapm.cli.Main.dispatch).
+    Compile / run / javaOptions ++= Seq("-Xss16m", "-Xmx8g", s"-Dmapm.root=${baseDirectory.value}", "-Dmapm.bare-run=emit"),
     Compile / mainClass := Some("mapm.cli.Main"),
     Test / fork := true,
     Test / javaOptions ++= Seq("-Xss16m", "-Xmx6g", "-XX:+UseParallelGC", s"-Dmapm.root=${baseDirectory.value}"),

@@ -50,8 +50,15 @@ object Main {
       .mkString("\n")
   }
 
+  /** Runs the command `args` names. With no command at all, a bare `tools/sbt run` (whose JVM has
+    * `-Dmapm.bare-run=emit`, build.sbt) emits the default configuration's Verilog into out/mapm, as
+    * chisel-template projects do; `tools/mapm` prints the usage on stderr and exits 2. */
   def dispatch(args: Seq[String]): Int = args match {
-    case Seq() | Seq("--help") | Seq("-h") | Seq("help") => println(usage); 0
+    case Seq() if sys.props.get("mapm.bare-run").contains("emit") =>
+      println("mapm: no command given: emitting the default configuration, as `mapm emit` (`tools/sbt \"run --help\"` lists the commands)")
+      EmitCommand.run(Seq.empty)
+    case Seq() => Console.err.println(usage); 2
+    case Seq("--help") | Seq("-h") | Seq("help") => println(usage); 0
     case cmd +: rest =>
       commands.find(_.name == cmd) match {
         case Some(c) => c.run(rest)

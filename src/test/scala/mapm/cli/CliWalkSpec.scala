@@ -102,4 +102,15 @@ class CliWalkSpec extends AnyFunSuite {
     } yield problem
     assert(problems.isEmpty, problems.mkString("\n"))
   }
+
+  test("no command: tools/mapm prints the usage on stderr and exits 2; --help prints it and exits 0") {
+    assert(sys.props.get("mapm.bare-run").isEmpty, "the test JVM is not a bare sbt run")
+    val out = new java.io.ByteArrayOutputStream
+    val err = new java.io.ByteArrayOutputStream
+    val rc = Console.withOut(out)(Console.withErr(err)(Main.dispatch(Seq.empty)))
+    assert(rc == 2 && out.size == 0)
+    assert(err.toString("UTF-8").startsWith("usage: mapm COMMAND") && Main.commands.forall(c => err.toString("UTF-8").contains(c.name)))
+    val help = new java.io.ByteArrayOutputStream
+    assert(Console.withOut(help)(Main.dispatch(Seq("--help"))) == 0 && help.toString("UTF-8").startsWith("usage: mapm COMMAND"))
+  }
 }
