@@ -12,10 +12,16 @@ object Args {
     * (unknown flag, bad value) becomes a [[MapmError]]; `--help` prints the usage. */
   def run[B](container: ParserForMethods[B], args: Seq[String], name: String, folders: Set[String] = Set("--out"),
              files: Set[String] = Set("--wave")): Int = {
+    val help = helpText(container)
     if (args.contains("--help") || args.contains("-h")) {
-      println(container.helpText(totalWidth = 100, docsOnNewLine = false, customNames = Map.empty, customDocs = Map.empty, sorted = true, nameMapper = mainargs.Util.kebabCaseNameMapper).replace("mapm.cli.", ""))
+      println(help)
       return 0
     }
+    // An option the command does not take, named with the nearest one it does: the options are
+    // read from the help text, the parser's own list.
+    val known = """--[a-z0-9][a-z0-9-]*""".r.findAllIn(help).toSet
+    for (bad <- args.filter(_.startsWith("--")).map(_.takeWhile(_ != '=')).find(a => !known(a)))
+      MapmError.fail(s"$name: unknown option $bad${nearest(bad, known).fold("")(g => s" (did you mean $g?)")} (mapm $name --help lists the options)")
     checkOutputs(args, folders, files)
     container.runRaw(args, allowPositional = false, allowRepeats = false, nameMapper = mainargs.Util.kebabCaseNameMapper) match {
       case mainargs.Result.Success(code: Int)         => code
@@ -23,10 +29,31 @@ object Args {
       case mainargs.Result.Failure.Exception(t)       => throw t
       case _ =>
         // Not a run: a parse error. Render mainargs' own message (parsing again invokes nothing).
+        // Its reason, without the signature it appends (the help prints that whole).
         val msg = container.runEither(args, allowPositional = false, allowRepeats = false).left.getOrElse("")
-        val first = msg.linesIterator.map(_.trim).filter(_.nonEmpty).take(3).mkString(" ")
-        MapmError.fail(s"$name: $first (mapm $name --help lists the options)")
+        val reason = msg.linesIterator.map(_.trim).filter(_.nonEmpty).takeWhile(!_.startsWith("Expected Signature")).mkString(" ")
+        MapmError.fail(s"$name: ${if (reason.nonEmpty) reason else "bad arguments"} (mapm $name --help lists the options)")
     }
+  }
+
+  /** The usage `--help` prints. */
+  def helpText[B](container: ParserForMethods[B]): String =
+    container.helpText(totalWidth = 100, docsOnNewLine = false, customNames = Map.empty, customDocs = Map.empty, sorted = true,
+      nameMapper = mainargs.Util.kebabCaseNameMapper).replace("mapm.cli.", "")
+
+  /** The option among `known` nearest to the mistyped `bad`: one it starts, or one within a third of
+    * its letters (at least 2) in edit distance; none when nothing is that close. */
+  def nearest(bad: String, known: Set[String]): Option[String] = {
+    def distance(a: String, b: String): Int = {
+      val d = Array.tabulate(a.length + 1, b.length + 1)((i, j) => if (i == 0) j else if (j == 0) i else 0)
+      for (i <- 1 to a.length; j <- 1 to b.length)
+        d(i)(j) = Seq(d(i - 1)(j) + 1, d(i)(j - 1) + 1, d(i - 1)(j - 1) + (if (a(i - 1) == b(j - 1)) 0 else 1)).min
+      d(a.length)(b.length)
+    }
+    val prefixed = known.filter(_.startsWith(bad)).toSeq
+    if (prefixed.size == 1) return prefixed.headOption
+    val (best, dist) = known.toSeq.sorted.map(k => k -> distance(bad, k)).minByOption(_._2).getOrElse(("", Int.MaxValue))
+    if (dist <= math.max(2, (bad.length - 2) / 3)) Some(best) else None
   }
 
   /** Makes every output folder named by an option in `folders` and the folder of every output file

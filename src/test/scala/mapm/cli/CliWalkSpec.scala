@@ -113,4 +113,18 @@ class CliWalkSpec extends AnyFunSuite {
     val help = new java.io.ByteArrayOutputStream
     assert(Console.withOut(help)(Main.dispatch(Seq("--help"))) == 0 && help.toString("UTF-8").startsWith("usage: mapm COMMAND"))
   }
+
+  test("a mistyped option is named alone, with the nearest one the command takes; a bad value gives its reason alone") {
+    def err(c: Command, args: String*): String = intercept[mapm.MapmError](c.run(args)).getMessage
+    val typo = err(ModelCommand, "--scnee", "test-scenes/cornell-box/scene-small.json", "--out", "x1")
+    assert(typo == "model: unknown option --scnee (did you mean --scene?) (mapm model --help lists the options)", typo)
+    assert(err(RenderCommand, "--fomat", "fp16").contains("unknown option --fomat (did you mean --format?)"))
+    assert(err(RenderCommand, "--tsm", "2", "--latncy-max", "9").contains("unknown option --latncy-max (did you mean --latency-max?)"))
+    val far = err(ModelCommand, "--tsm", "2")
+    assert(far.startsWith("model: unknown option --tsm (mapm model --help"), far) // nothing model takes is near it
+    val value = err(RenderCommand, "--format", "fp128")
+    assert(value.startsWith("render: Invalid argument --format <format> failed to parse \"fp128\"") && value.contains("unknown float format 'fp128'"), value)
+    assert(!value.contains("Expected Signature"), value)
+    assert(Args.nearest("--sed", Set("--seed", "--scene")) == Some("--seed") && Args.nearest("--qu", Set("--quick", "--out")) == Some("--quick"))
+  }
 }
