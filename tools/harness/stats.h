@@ -14,6 +14,7 @@
 // What a run did, besides the DRAM's traffic and the counters.
 struct RunSummary {
   std::string failure;
+  bool stopped;  // ended at --max-cycles as asked, without a failure
   uint64_t cycles, fed, completed, soOut, soPassed;
   double wallSeconds;
 };
@@ -43,7 +44,7 @@ inline bool writeStats(const std::string& path, const Options& opt, const RunSum
   j.integer("rsEntries", MAPM_RS_ENTRIES);
   j.integer("memMaxOutstanding", MAPM_MEM_MAX_OUTSTANDING);
   j.end();
-  j.str("result", r.failure.empty() ? "PASS" : "FAIL");
+  j.str("result", !r.failure.empty() ? "FAIL" : r.stopped ? "STOPPED" : "PASS");
   if (r.failure.empty()) j.null("failure"); else j.str("failure", r.failure);
   j.integer("seed", opt.seed);
   j.integer("latency", opt.latency);
@@ -90,6 +91,10 @@ inline bool writeStats(const std::string& path, const Options& opt, const RunSum
   j.num("gbPerSecond", dram.bytesServed() / cyc * opt.clockGhz);
   j.begin("counters");
   for (int i = 0; i < COUNTER_COUNT; i++) j.integer(COUNTER_NAMES[i], counters[i]);
+  j.end();
+  // What each counter counts: the TSMs' stalls are TSM-cycles (summed over the TSMs), so they can exceed `cycles`.
+  j.begin("counterUnits");
+  for (int i = 0; i < COUNTER_COUNT; i++) j.str(COUNTER_NAMES[i], COUNTER_UNITS[i]);
   j.end();
   j.num("wallSeconds", r.wallSeconds);
   j.num("simulatedCyclesPerSecond", r.cycles / (r.wallSeconds > 0 ? r.wallSeconds : 1e-9));

@@ -1,26 +1,29 @@
 package mapm.cli
 
-import mainargs.{ParserForClass, ParserForMethods, TokensReader}
+import mainargs.{ArgSig, ParserForClass, ParserForMethods, TokensReader}
 import mapm.MapmError
 import mapm.format.SlotLayout
 import mapm.model.FloatFormat
+import mapm.params.{CacheParams, MapmParams}
 
 /** Helpers shared by the commands: running a mainargs parser with our error convention, and
   * token readers for the project's own argument types. */
 object Args {
   /** Parses `args` for the single `@main` method of `container` and runs it. A parse error
-    * (unknown flag, bad value) becomes a [[MapmError]]; `--help` prints the usage. */
+    * (unknown flag, bad value) becomes a [[MapmError]]; `--help` prints the usage ([[helpText]]).
+    * `defaults` gives the default, as `--help` shows it, of an option whose default value is None
+    * (what stands in for it is decided later); `hide` takes options of a shared group that this
+    * command does not take out of the help and the accepted options. */
   def run[B](container: ParserForMethods[B], args: Seq[String], name: String, folders: Set[String] = Set("--out"),
-             files: Set[String] = Set("--wave")): Int = {
-    val help = helpText(container)
+             files: Set[String] = Set("--wave"), defaults: Map[String, String] = Map.empty, hide: Set[String] = Set.empty): Int = {
+    val opts = options(container, defaults, hide)
     if (args.contains("--help") || args.contains("-h")) {
-      println(help)
+      println(helpText(name, opts))
       return 0
     }
-    // An option the command does not take, named with the nearest one it does: the options are
-    // read from the help text, the parser's own list.
-    val known = """--[a-z0-9][a-z0-9-]*""".r.findAllIn(help).toSet
-    for (bad <- args.filter(_.startsWith("--")).map(_.takeWhile(_ != '=')).find(a => !known(a)))
+    // An option the command does not take, named with the nearest one it does.
+    val known = opts.flatMap(o => o.name +: o.short.map(c => s"-$c").toSeq).toSet
+    for (bad <- args.filter(_.startsWith("-")).filterNot(_.matches("-[0-9.].*")).map(_.takeWhile(_ != '=')).find(a => !known(a)))
       MapmError.fail(s"$name: unknown option $bad${nearest(bad, known).fold("")(g => s" (did you mean $g?)")} (mapm $name --help lists the options)")
     checkOutputs(args, folders, files)
     container.runRaw(args, allowPositional = false, allowRepeats = false, nameMapper = mainargs.Util.kebabCaseNameMapper) match {
@@ -36,10 +39,69 @@ object Args {
     }
   }
 
-  /** The usage `--help` prints. */
-  def helpText[B](container: ParserForMethods[B]): String =
-    container.helpText(totalWidth = 100, docsOnNewLine = false, customNames = Map.empty, customDocs = Map.empty, sorted = true,
-      nameMapper = mainargs.Util.kebabCaseNameMapper).replace("mapm.cli.", "")
+  /** One option as a command's parser defines it: `--name`, its one-letter form, the type of its
+    * value (None for a flag), its doc, and its default: the value itself (None when the option
+    * has none) and the text `--help` shows (None for a flag or an option that must be given). */
+  final case class Opt(name: String, short: Option[Char], valueType: Option[String], doc: String, defaultValue: Option[Any],
+                       defaultText: Option[String], reader: TokensReader[_]) {
+    /** A value option with no default: the command needs it. */
+    def required: Boolean = valueType.isDefined && defaultValue.isEmpty
+  }
+
+  /** The values a value type accepts, from the parsers of those types, for the help. */
+  val choices: Map[String, String] = Map(
+    "format" -> (FloatFormat.presets.map(_._1) :+ "E,M (exponent, fraction bits)").mkString(", "),
+    "arith" -> mapm.model.Arith.all.mkString(", "),
+    "layout" -> SlotLayout.all.mkString(", "),
+    "fidelity" -> mapm.params.Fidelity.all.mkString(", "),
+    "geometry" -> "SIZE[/LINE[/WAYS]], e.g. 32K/32/4 or 512K/64/full")
+
+  /** The options of `container`'s `@main` method, those of its option groups (such as
+    * [[RtlOptions]]) in place, less `hide`; each default read from the parser itself (the
+    * method's or the group's default argument), or from `defaults` (and [[groupDefaults]]) where
+    * the value is None. */
+  def options[B](container: ParserForMethods[B], defaults: Map[String, String] = Map.empty, hide: Set[String] = Set.empty): Seq[Opt] = {
+    val stated = groupDefaults ++ defaults
+    def show(v: Any): Option[String] = v match {
+      case None | _: mainargs.Flag => None
+      case Some(x) => show(x)
+      case d: Double => Some(java.math.BigDecimal.valueOf(d).stripTrailingZeros.toPlainString)
+      case x => Some(x.toString)
+    }
+    def walk(sigs: Seq[ArgSig], base: Any): Seq[Opt] = sigs.flatMap { s =>
+      s.reader match {
+        case c: TokensReader.Class[_] => walk(c.main.argSigs0, c.companion())
+        case _ if s.hidden => Seq.empty
+        case r =>
+          val name = "--" + s.longName(mainargs.Util.kebabCaseNameMapper).getOrElse(s.shortName.fold("")(_.toString))
+          val tpe = r match { case n: TokensReader.ShortNamed[_] if !r.isFlag => Some(n.shortName); case _ => None }
+          val value = s.default.map(f => f(base))
+          val doc = s.doc.getOrElse("")
+          // An absent Option whose doc does not say what stands in: none.
+          val text = value.flatMap(show).orElse(stated.get(name)).orElse(if (value.contains(None) && !doc.contains("default")) Some("none") else None)
+          Seq(Opt(name, s.shortName, tpe, doc, value, text, r))
+      }
+    }
+    walk(container.mains.value.head.argSigs0, container.mains.base()).filterNot(o => hide(o.name)).sortBy(_.name)
+  }
+
+  /** The usage `--help` prints: each option with its value type, doc, accepted values and default. */
+  def helpText(name: String, opts: Seq[Opt], width: Int = 100): String = {
+    def head(o: Opt) = o.short.fold("")(c => s"-$c ") + o.name + o.valueType.fold("")(t => s" <$t>")
+    val col = (opts.map(head(_).length).maxOption.getOrElse(0) + 4).min(30)
+    def wrap(text: String, indent: Int): Seq[String] = text.split(" ").foldLeft(Vector("")) { (ls, w) =>
+      if (ls.last.isEmpty) ls.init :+ w else if (indent + ls.last.length + 1 + w.length > width) ls :+ w else ls.init :+ s"${ls.last} $w"
+    }
+    val lines = opts.flatMap { o =>
+      val default = o.defaultText.map(d => s"(default: $d)").orElse(if (o.required) Some("(required)") else None)
+      val doc = Seq(o.doc, o.valueType.flatMap(choices.get).fold("")(c => s"[$c]"), default.getOrElse("")).filter(_.nonEmpty).mkString(" ")
+      val h = s"  ${head(o)}"
+      val body = wrap(doc, col)
+      if (h.length + 2 > col) Seq(h) ++ body.map(" " * col + _)
+      else (h.padTo(col, ' ') + body.head) +: body.tail.map(" " * col + _)
+    }
+    (s"usage: mapm $name [OPTIONS]" +: lines).mkString("\n")
+  }
 
   /** The option among `known` nearest to the mistyped `bad`: one it starts, or one within a third of
     * its letters (at least 2) in edit distance; none when nothing is that close. */
@@ -63,8 +125,21 @@ object Args {
     for (Seq(opt, value) <- args.sliding(2) if folders(opt) || files(opt)) {
       val path = java.nio.file.Paths.get(value).toAbsolutePath
       val dir = if (folders(opt)) path else path.getParent
+      // The nearest existing folder or file on the way: a file there blocks the folder.
+      val blocker = Iterator.iterate(dir)(_.getParent).takeWhile(_ != null).find(java.nio.file.Files.exists(_))
+        .filterNot(java.nio.file.Files.isDirectory(_))
+      for (b <- blocker) MapmError.fail(s"$opt $value: $b is a file, not a folder${if (b == dir && folders(opt)) " (it names the output folder)" else ""}")
       try java.nio.file.Files.createDirectories(dir)
-      catch { case e: java.io.IOException => MapmError.fail(s"$opt $value: cannot create the folder $dir (${e.getClass.getSimpleName})") }
+      catch {
+        case e: java.io.IOException =>
+          val why = e match {
+            case f: java.nio.file.FileAlreadyExistsException => s"${f.getFile} is a file, not a folder"
+            case _: java.nio.file.AccessDeniedException      => "permission denied"
+            case f: java.nio.file.FileSystemException        => Option(f.getReason).getOrElse("refused")
+            case _                                            => String.valueOf(e.getMessage)
+          }
+          MapmError.fail(s"$opt $value: cannot create the folder $dir: $why")
+      }
       MapmError.check(java.nio.file.Files.isWritable(dir), s"$opt $value: the folder $dir is not writable")
     }
 
@@ -105,6 +180,21 @@ object Args {
     def read(strs: Seq[String]): Either[String, mapm.params.CacheSpec] =
       try Right(mapm.params.CacheSpec.parse(strs.last))
       catch { case e: MapmError => Left(e.getMessage) }
+  }
+
+  /** What each option of the shared groups left out (None) stands for, as `--help` shows it:
+    * [[HwOptions]]' sizes are Table 4.2's, read from [[MapmParams.table48]] (a default line too
+    * short for a format's record grows to fit it); [[RtlOptions]]' fidelity is full (`evaluate`
+    * gives its own). Kept here, not in the groups' companions: an explicit companion hides a case
+    * class's default arguments from mainargs. */
+  lazy val groupDefaults: Map[String, String] = {
+    val one = MapmParams.table48(1, 1, 1)
+    def geometry(c: CacheParams) = s"${c.sizeBytes / 1024}K/${c.lineBytes}/${if (c.fullyAssociative) "full" else c.ways}"
+    val c = one.caches
+    Map("--rq-depth" -> one.queues.registerQueueDepth.toString, "--rs-entries" -> s"${one.queues.rsEntries} per SOA",
+      "--ts-l1" -> geometry(c.tsL1), "--ts-l2" -> geometry(c.tsL2), "--soq" -> geometry(c.soq),
+      "--sop-l1" -> geometry(c.sopL1), "--sop-l2" -> geometry(c.sopL2), "--mem-outstanding" -> one.memory.maxOutstanding.toString,
+      "--fidelity" -> mapm.params.Fidelity.Full.name)
   }
 
   /** The hardware sizes `emit`, `render`, `sweep` and `evaluate` share (see [[rtlOptionsParser]] for why here). */

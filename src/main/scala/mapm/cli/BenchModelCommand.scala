@@ -24,7 +24,7 @@ object BenchModelCommand extends Command {
       @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
       @arg(doc = "timed runs (after the warm-up runs)") repeat: Int = 3,
       @arg(doc = "untimed warm-up runs first (JIT)") warmup: Int = 1,
-      @arg(doc = "number format: fp32, bf16, fp16, fp24 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
+      @arg(doc = "number format (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
       @arg(doc = "output folder (every run writes its images and stats there)") out: String = "out",
       @arg(doc = "worker threads") threads: Int = Parallel.defaultThreads,
       @arg(name = "g", doc = "guard digits of the SOA's online colour chain") g: Int = 3
@@ -63,5 +63,7 @@ object BenchModelCommand extends Command {
     0
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

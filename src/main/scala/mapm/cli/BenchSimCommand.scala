@@ -79,5 +79,7 @@ object BenchSimCommand extends Command {
     field("totals:").orElse(field("summary:")).getOrElse(MapmError.fail(s"$file: no callgrind totals or summary line"))
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

@@ -25,7 +25,7 @@ object CostCommand extends Command {
       @arg(doc = "Tree Search Modules of a whole MAPM") tsm: Option[Int] = None,
       @arg(doc = "Shader Operation Modules of a whole MAPM") som: Option[Int] = None,
       @arg(doc = "SOAs per SOM of a whole MAPM") soa: Option[Int] = None,
-      @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(doc = "float format") format: FloatFormat = FloatFormat.fp32,
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
       @arg(doc = "arithmetic of the SOA and TSA: online or conventional") arith: Arith = Arith.Online,
       @arg(doc = "cost the soa or tsa unit in both arithmetics and compare them (Tables 4.6 and 4.7; compare.json); with --tsm/--som/--soa, both MAPMs rendering --scene through the RTL (compare-system.json)") compare: Flag,
@@ -130,5 +130,7 @@ object CostCommand extends Command {
     }
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

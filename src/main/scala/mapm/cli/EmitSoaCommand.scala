@@ -17,7 +17,7 @@ object EmitSoaCommand extends Command {
 
   @main
   def emitSoa(
-      @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(doc = "float format") format: FloatFormat = FloatFormat.fp32,
       @arg(name = "g", doc = "guard digits per online unit (0 = the dissertation's N = n)") g: Int = 3,
       @arg(doc = "width of the opaque tag that travels with each operation") tagWidth: Int = 16,
       @arg(doc = "colour chain: online (the digit-serial units) or conventional (7 FMul + 1 FDiv)") arith: Arith = Arith.Online,
@@ -45,5 +45,7 @@ object EmitSoaCommand extends Command {
     0
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

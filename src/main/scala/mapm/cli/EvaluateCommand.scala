@@ -59,18 +59,17 @@ object EvaluateCommand extends Command {
       opts: RtlOptions
   ): Int = {
     val t0 = System.nanoTime()
-    MapmError.check(opts.scene == RenderCommand.defaultScene, "evaluate: it runs its four workloads; --scene does not apply")
     Slurm.checkOptions(name, jobs, slurm.value, partition, task, collect.value)
     opts.harness() // checks the memory model's options before any work
     val fixedClock = SweepCommand.parseClock(clock)
     val resultsFile = resultsPath(results, opts.out)
-    val fid = if (!rawArgs.exists(_.startsWith("--fidelity"))) Fidelity.Timing else opts.fidelity
+    val fid = opts.fidelityOr(Fidelity.Timing)
     MapmError.check(budget.forall(_ > 0), s"evaluate: --budget must be a positive number of minutes, got ${budget.getOrElse(0.0)}")
     MapmError.check(!(quick.value && (resume.value || budget.isDefined)), "evaluate: --resume and --budget are for the full run, not --quick")
     MapmError.check(!((slurm.value || task.isDefined || collect.value) && (resume.value || budget.isDefined)),
       "evaluate: --resume and --budget are for local runs, not --slurm")
     val ws = workloads(quick.value)
-    def optsOf(w: Workload) = opts.copy(scene = Harness.root.resolve(w.scene).toString, fidelity = fid)
+    def optsOf(w: Workload) = opts.copy(scene = Harness.root.resolve(w.scene).toString, fidelity = Some(fid))
     val jobsList = ws.flatMap(w => w.configs.map(c => (w, c)))
     val log: String => Unit = l => System.err.println(s"mapm: $l")
     task match {
@@ -177,5 +176,11 @@ object EvaluateCommand extends Command {
   def resultsPath(results: Option[String], out: String): java.nio.file.Path =
     results.map(Paths.get(_)).getOrElse(Paths.get(out).resolve("results.md"))
 
-  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(ParserForMethods(this), args, name, files = Set("--results")) }
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(parser, args, name, files = Set("--results"),
+    defaults = optionDefaults, hide = hiddenOptions) }
+
+  override def optionDefaults: Map[String, String] = Map("--fidelity" -> Fidelity.Timing.name)
+  override def hiddenOptions: Set[String] = Set("--scene")
 }

@@ -11,7 +11,7 @@ object FormatCommand extends Command {
 
   @main
   def format(
-      @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(doc = "float format") format: FloatFormat = FloatFormat.fp32,
       @arg(doc = "comma-separated values to encode") values: String = "1"
   ): Int = {
     println(s"format $format: exponent ${format.expWidth} bits (bias ${format.bias}), mantissa ${format.manWidth} bits, max ${format.maxFinite}, min normal ${format.minNormal}")
@@ -23,5 +23,7 @@ object FormatCommand extends Command {
     0
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

@@ -11,14 +11,14 @@ import Args.CacheSpecReader
   * `evaluate` take them as `--latency` and `--bandwidth`. */
 @main
 final case class HwOptions(
-    @arg(doc = "entries of each TSM's Register-queue bank (default 256)") rqDepth: Option[Int] = None,
-    @arg(doc = "reservation-station entries per SOM (default 8 per SOA)") rsEntries: Option[Int] = None,
-    @arg(name = "ts-l1", doc = "TS L1 per TSM, SIZE[/LINE[/WAYS]] (default 16K/32/2; WAYS may be 'full')") tsL1: Option[CacheSpec] = None,
-    @arg(name = "ts-l2", doc = "shared TS L2 (default 256K/64/full)") tsL2: Option[CacheSpec] = None,
-    @arg(doc = "SOQ query cache (default 16K/32/1)") soq: Option[CacheSpec] = None,
-    @arg(name = "sop-l1", doc = "SOP L1 per SOM, split into one bank per SOA (default 64K/32/2)") sopL1: Option[CacheSpec] = None,
-    @arg(name = "sop-l2", doc = "shared SOP L2 (default 512K/64/full)") sopL2: Option[CacheSpec] = None,
-    @arg(doc = "requests in flight at once on the memory port (default 64)") memOutstanding: Option[Int] = None,
+    @arg(doc = "entries of each TSM's Register-queue bank") rqDepth: Option[Int] = None,
+    @arg(doc = "reservation-station entries per SOM") rsEntries: Option[Int] = None,
+    @arg(name = "ts-l1", doc = "TS L1 per TSM") tsL1: Option[CacheSpec] = None,
+    @arg(name = "ts-l2", doc = "shared TS L2") tsL2: Option[CacheSpec] = None,
+    @arg(doc = "SOQ query cache") soq: Option[CacheSpec] = None,
+    @arg(name = "sop-l1", doc = "SOP L1 per SOM, split into one bank per SOA") sopL1: Option[CacheSpec] = None,
+    @arg(name = "sop-l2", doc = "shared SOP L2") sopL2: Option[CacheSpec] = None,
+    @arg(doc = "requests in flight at once on the memory port") memOutstanding: Option[Int] = None,
     @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag()) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),

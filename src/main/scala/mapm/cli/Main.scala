@@ -9,6 +9,14 @@ trait Command {
   def name: String
   /** One line for `mapm --help`. */
   def summary: String
+  /** The mainargs parser of its `@main` method. */
+  def parser: mainargs.ParserForMethods[_]
+  /** What an option whose default value is None stands for in this command, as `--help` shows it. */
+  def optionDefaults: Map[String, String] = Map.empty
+  /** Options of a shared group ([[RtlOptions]]) that this command does not take. */
+  def hiddenOptions: Set[String] = Set.empty
+  /** Its options as `--help` lists them ([[Args.options]]). */
+  def options: Seq[Args.Opt] = Args.options(parser, optionDefaults, hiddenOptions)
   /** Runs with the remaining arguments; returns the process exit code. */
   def run(args: Seq[String]): Int
 }

@@ -12,11 +12,13 @@ object ModelCommand extends Command {
   @main
   def model(
       @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
-      @arg(doc = "number format: fp32, bf16, fp16, fp24 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
+      @arg(doc = "number format (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
       @arg(doc = "output folder") out: String = "out",
       @arg(doc = "worker threads") threads: Int = Parallel.defaultThreads,
       @arg(name = "g", doc = "guard digits of the SOA's online colour chain (0 = the dissertation's)") g: Int = 3
   ): Int = { ModelRun.run(scene, format, out, threads, g = g); 0 }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

@@ -16,11 +16,11 @@ import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}
 @main
 final case class RtlOptions(
     @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
-    @arg(doc = "number format: fp32, bf16, fp16, fp24, fp64 or E,M (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
+    @arg(doc = "number format (default: the scene's, else fp32)") format: Option[FloatFormat] = None,
     @arg(doc = "memory records: packed (format slots of 2, 4 or 8 bytes, the smallest that fits) or wide (at least 4)") layout: SlotLayout = SlotLayout.Packed,
     @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
     @arg(doc = "arithmetic of the SOAs and TSAs: online (the dissertation's) or conventional (correctly rounded floating point)") arith: Arith = Arith.Online,
-    @arg(doc = "full: the SOAs' arithmetic, every colour checked; timing: each SOA a latency-exact delay line, cycle-exact and faster, colours taken from the model (docs/harness.md)") fidelity: Fidelity = Fidelity.Full,
+    @arg(doc = "full: the SOAs' arithmetic, every colour checked; timing: each SOA a latency-exact delay line, cycle-exact and faster to simulate, colours taken from the model (docs/harness.md)") fidelity: Option[Fidelity] = None,
     @arg(doc = "memory latency in cycles") latency: Int = 100,
     @arg(doc = "draw each request's latency from [latency, this] (0: fixed latency)") latencyMax: Int = 0,
     @arg(doc = "probability of a gap in the query stream each cycle") queryGap: Double = 0,
@@ -32,10 +32,13 @@ final case class RtlOptions(
     @arg(doc = "clock for the GB/s figure, in GHz") clockGhz: Double = 1.5,
     @arg(doc = "seed of the memory's response reordering") seed: Long = 1,
     @arg(doc = "threads of the Verilator model (a separate build; 1 is fastest on this design, see docs/harness.md)") simThreads: Int = 1,
-    @arg(doc = "stop a run with FAIL after this many cycles (0: no limit)") maxCycles: Long = 0,
+    @arg(doc = "stop the run after this many cycles (0: no limit): what came out is checked, the unfinished frame is not compared") maxCycles: Long = 0,
     @arg(doc = "output folder") out: String = "out",
     @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads,
     hw: HwOptions = HwOptions()) {
+
+  /** The fidelity asked for, else the command's default `default` (full for `render` and `sweep`, timing for `evaluate`). */
+  def fidelityOr(default: Fidelity = Fidelity.Full): Fidelity = fidelity.getOrElse(default)
 
   /** The harness's options for each run, with an FST waveform of cycles [waveStart, waveEnd] when `wave` is given. */
   def harness(wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue): Harness.RunOptions =
@@ -44,11 +47,11 @@ final case class RtlOptions(
 
   /** [[RtlRun.configure]]: the scene, format and configurations `configs` checked, without running the model. */
   def check(configs: Seq[(Int, Int, Int)]): Unit = {
-    RtlRun.configure(scene, format, g, configs, layout, arith, fidelity, hw.tuning)
+    RtlRun.configure(scene, format, g, configs, layout, arith, fidelityOr(), hw.tuning)
     ()
   }
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
   def setup(configs: Seq[(Int, Int, Int)], prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): RtlRun.Setup =
-    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, hw.tuning, prebuild, log)
+    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelityOr(), hw.tuning, prebuild, log)
 }

@@ -35,10 +35,15 @@ object RtlRun {
   final case class Setup(params: Seq[MapmParams], prep: Prepared)
 
   /** One configuration's run: the harness outcome, whether the frame equals the model's bit for
-    * bit (and the first differing value), and seconds per stage. */
+    * bit (and the first differing value), and seconds per stage: `times` one after the other on
+    * the way to the result, `beside` those that ran on other threads while the model worked (the
+    * emit and build of a configuration prepared early; `times` then holds the wait for them). */
   final case class ConfigRun(p: MapmParams, outcome: Harness.Outcome, frameEqual: Boolean, frameDiff: Option[String],
-                             tsOpsEqual: Option[Boolean], times: Seq[(String, Double)]) {
+                             tsOpsEqual: Option[Boolean], times: Seq[(String, Double)], beside: Seq[(String, Double)] = Seq.empty) {
     def passed: Boolean = outcome.passed && frameEqual && !tsOpsEqual.contains(false)
+    /** Ended at `--max-cycles` as asked, every result that came out checked: the frame and the
+      * TS-op count are unfinished, so not compared. */
+    def stopped: Boolean = outcome.stopped
     /** Why it failed, in one line. */
     def failure: String =
       if (!outcome.passed) outcome.verdict
@@ -113,8 +118,10 @@ object RtlRun {
     val built = early.getOrElse(build(p, opts.wave.isDefined, opts.simThreads, log))
     val t2 = System.nanoTime()
     val outcome = Harness.run(built.exe, prep.image, prep.expected, dir, opts, if (progress) Some(s"RTL ${p.counts.label}") else None)
-    val times = Seq("emit" -> built.emitSeconds, "verilator build" -> built.buildSeconds) ++
-      (if (early.isDefined) Seq("waiting for the build" -> (t2 - t0) / 1e9) else Seq.empty) :+ ("simulation" -> secs(t2))
+    val builds = Seq("emit" -> built.emitSeconds, "verilator build" -> built.buildSeconds)
+    val (times, beside) =
+      if (early.isDefined) (Seq("waiting for the build" -> (t2 - t0) / 1e9, "simulation" -> secs(t2)), builds)
+      else (builds :+ ("simulation" -> secs(t2)), Seq.empty)
     val model = prep.model.frame
     val diff = outcome.frame match {
       case None => Some("the harness wrote no frame")
@@ -124,7 +131,7 @@ object RtlRun {
           .map(i => s"first at pixel ${i / 3} channel ${i % 3}: RTL ${f(i)}, model ${model(i)}")
     }
     val tsOps = outcome.stats.flatMap(_.tsOps).map(_ == prep.model.tsOps)
-    ConfigRun(p, outcome, diff.isEmpty, diff, tsOps, times)
+    ConfigRun(p, outcome, diff.isEmpty, diff, tsOps, times, beside)
   }
 
   /** The float64 reference of the indirect light (for the PSNR). */

@@ -16,7 +16,7 @@ object SoaBenchCommand extends Command {
 
   @main
   def soaBench(
-      @arg(doc = "float format: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(doc = "float format") format: FloatFormat = FloatFormat.fp32,
       @arg(name = "g", doc = "guard digits per online unit") g: Int = 3,
       @arg(doc = "random operations per timed pass (3 channels each)") ops: Int = 1000000,
       @arg(doc = "random seed") seed: Long = 1
@@ -74,5 +74,7 @@ object SoaBenchCommand extends Command {
     0
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

@@ -23,7 +23,7 @@ object SoaVectorsCommand extends Command {
   @main
   def soaVectors(
       @arg(doc = "vector file (CSV: id,kernel,brdf,h,power,contrib,expected,flags,s,m,E[,p1,q,p2,p3])") in: String,
-      @arg(doc = "float format of the file: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(doc = "float format of the file") format: FloatFormat = FloatFormat.fp32,
       @arg(name = "g", doc = "guard digits the file was made with (online arithmetic)") g: Int = 3,
       @arg(doc = "arithmetic: online (the digit-serial chain) or conventional (correctly rounded, ../shared/vectors/conventional)") arith: Arith = Arith.Online,
       @arg(doc = "also run the emitted Verilog in Verilator") hw: Flag
@@ -77,5 +77,7 @@ object SoaVectorsCommand extends Command {
     first.foreach(m => println(s"  first: $m"))
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

@@ -114,7 +114,8 @@ object StressCommand extends Command {
         if (!ok) {
           bar.finish()
           val at = s.map(_.cycles).getOrElse(maxCycles)
-          val why = if (!run.passed) run.failure else "the SO counters differ from the model's"
+          val why = if (run.stopped) s"not finished within --max-cycles $maxCycles (${s.fold("?")(st => s"${st.queriesCompleted} of ${st.queries} queries complete")})"
+            else if (!run.passed) run.failure else "the SO counters differ from the model's"
           println(s"FAIL ${e.label} seed $seed: $why")
           println(s"reproduce: ${renderCommand(scene, e, g, o, (at - 2000) max 0, at + 10)}")
           fail(s"stress: ${e.label} seed $seed failed after $total passing runs: $why")
@@ -134,5 +135,7 @@ object StressCommand extends Command {
     0
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name)
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name)
 }

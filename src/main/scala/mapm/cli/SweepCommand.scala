@@ -91,7 +91,7 @@ object SweepCommand extends Command {
   def runLocal(opts: RtlOptions, list: Seq[(Int, Int, Int)], jobs: Int, work: Path, log: String => Unit): Unit = {
     val RtlRun.Setup(params, prep) = opts.setup(list)
     println(s"sweep of ${params.size} configurations on ${prep.config.file}, $jobs at once, ${opts.hw.describe}: ${prep.model.count} shader operations, ${prep.model.tsOps} TS ops" +
-      (if (opts.fidelity == mapm.params.Fidelity.Timing) "; SOAs as timing models (cycle-exact; colours from the model, not checked)" else ""))
+      (if (opts.fidelityOr() == mapm.params.Fidelity.Timing) "; SOAs as timing models (cycle-exact; colours from the model, not checked)" else ""))
     val pool = Executors.newFixedThreadPool(math.min(jobs, params.size))
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
     try {
@@ -109,10 +109,11 @@ object SweepCommand extends Command {
     val r = RtlRun.runConfig(prep, p, opts.harness(), dir, log, progress)
     val s = r.outcome.stats
     def orNaN(v: Option[Double]): Double = v.getOrElse(Double.NaN)
-    println(f"$prefix${p.counts.label}%-8s ${if (r.passed) "PASS" else "FAIL"} cycles ${orNaN(s.map(_.cycles.toDouble))}%.0f " +
+    println(f"$prefix${p.counts.label}%-8s ${if (r.passed) "PASS" else if (r.stopped) "STOPPED" else "FAIL"} cycles ${orNaN(s.map(_.cycles.toDouble))}%.0f " +
       f"SO/cycle ${orNaN(s.map(_.soPerCycle))}%.3f TS ops/cycle ${orNaN(s.flatMap(_.tsOpsPerCycle))}%.3f " +
       f"simulated ${orNaN(s.map(_.simulatedCyclesPerSecond))}%.0f cycles/s${if (r.passed) "" else ": " + r.failure}")
-    SweepReport.writeResult(dir, SweepReport.TaskResult(p.counts.label, c._1, c._2, c._3, r.passed, if (r.passed) "" else r.failure, r.times))
+    SweepReport.writeResult(dir, SweepReport.TaskResult(p.counts.label, c._1, c._2, c._3, r.passed, if (r.passed) "" else r.failure,
+      r.beside.map { case (k, v) => s"$k (beside the model)" -> v } ++ r.times))
   }
 
   /** A Slurm array task: prepares the frame in its own folder (the model is deterministic; no task
@@ -152,5 +153,7 @@ object SweepCommand extends Command {
     SweepReport.Cost(soa, tsa, fixed.getOrElse(fmax), if (fixed.isDefined) "--clock" else s"fmax of the slower unit, the ${if (soa.fmaxGHz <= tsa.fmaxGHz) "SOA" else "TSA"}")
   }
 
-  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(ParserForMethods(this), args, name) }
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(parser, args, name) }
 }

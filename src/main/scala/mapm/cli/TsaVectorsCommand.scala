@@ -70,7 +70,7 @@ object TsaVectorsCommand extends Command {
   @main
   def tsaVectors(
       @arg(doc = "CSV file: header line, then rows p,h,s (hex bit patterns); optional expected columns tcl,tcr,error") in: String,
-      @arg(doc = "float format of the bit patterns: fp32, bf16, fp16, fp24, fp64 or E,M") format: FloatFormat = FloatFormat.fp32,
+      @arg(doc = "float format of the bit patterns") format: FloatFormat = FloatFormat.fp32,
       @arg(doc = "also run the rows through the emitted TSA Verilog in Verilator") hw: Flag,
       @arg(doc = "TSA: online (the digit-serial comparators) or conventional (two FAdds, exact decisions)") arith: Arith = Arith.Online,
       @arg(doc = "write the output CSV here (default: standard output, with the summary on standard error)") out: Option[String] = None
@@ -112,5 +112,7 @@ object TsaVectorsCommand extends Command {
     if (bad.isEmpty) 0 else 1
   }
 
-  def run(args: Seq[String]): Int = Args.run(ParserForMethods(this), args, name, folders = Set.empty, files = Set("--out"))
+  lazy val parser: ParserForMethods[_] = ParserForMethods(this)
+
+  def run(args: Seq[String]): Int = Args.run(parser, args, name, folders = Set.empty, files = Set("--out"))
 }

@@ -30,6 +30,9 @@ object Progress {
   /** Characters of a drawn line: the library then needs no terminal query for the width. */
   private val LineWidth = 100
 
+  /** Whether bars are drawn (stderr a terminal, or MAPM_PROGRESS=1; never with MAPM_PROGRESS=0). */
+  def drawn: Boolean = enabled
+
   private def enabled: Boolean = sys.env.get("MAPM_PROGRESS") match {
     case Some("0") => false
     case Some("1") => true

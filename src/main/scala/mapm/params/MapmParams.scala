@@ -208,7 +208,9 @@ final case class IndexParams(
 /** What the emitted SOAs compute: `full` (the arithmetic, colours and the distance check) or
   * `timing` (a latency-exact delay line carrying valid and tag alone: cycle for cycle the same
   * machine, colours and cond left to the harness's expected SOs; docs/harness.md). */
-sealed abstract class Fidelity(val name: String)
+sealed abstract class Fidelity(val name: String) {
+  override def toString: String = name
+}
 object Fidelity {
   case object Full extends Fidelity("full")
   case object Timing extends Fidelity("timing")

@@ -80,4 +80,14 @@ object MapmCounters {
   val Names: Seq[String] = Seq("cycles", "queries", "tsOps", "soIssued", "soPassed", "stallNodeData", "stallRsFull",
     "stallRqFull", "stallQuery", "tsL1_hits", "tsL1_misses", "tsL2_hits", "tsL2_misses", "soq_hits", "soq_misses",
     "sopL1_hits", "sopL1_misses", "sopL2_hits", "sopL2_misses", "bytesFetched", "rqPeak")
+
+  /** What each counter counts. The TSMs' stalls are summed over the TSMs, one per TSM and cycle
+    * (TSM-cycles): with 16 TSMs `stallRsFull` can reach 16 times `cycles`. A cache's hits and
+    * misses are summed over its instances (the TS L1s, the SOP L1 banks). */
+  val Units: Map[String, String] = Map(
+    "cycles" -> "cycles", "queries" -> "queries", "tsOps" -> "operations", "soIssued" -> "operations", "soPassed" -> "operations",
+    "stallNodeData" -> "TSM-cycles", "stallRsFull" -> "TSM-cycles", "stallRqFull" -> "TSM-cycles", "stallQuery" -> "cycles",
+    "bytesFetched" -> "bytes", "rqPeak" -> "entries") ++
+    Seq("tsL1", "tsL2", "soq", "sopL1", "sopL2").flatMap(c => Seq(s"${c}_hits" -> "accesses", s"${c}_misses" -> "accesses"))
+  require(Units.keySet == Names.toSet, s"every counter needs a unit: ${Names.filterNot(Units.contains)}")
 }

@@ -79,7 +79,7 @@ object Harness {
       Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
       val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${tmp.toAbsolutePath} -std=c++17") ++
         (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
-      Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, tmp, "harness", flags, ccache = !fresh)
+      Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, tmp, "harness", flags, ccache = !fresh, log = log)
     }
     if (built) log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     dir.resolve("harness")
@@ -146,8 +146,11 @@ object Harness {
   /** The faults the harness injects (`--fault`, tools/harness/fault.h, docs/harness.md). */
   val Faults: Seq[String] = Seq("node-axis", "node-child", "query-index", "unknown-id", "duplicate-response")
 
-  /** The verdict line, the stats (None if the harness wrote none) and the frame (raw doubles). */
-  final case class Outcome(passed: Boolean, verdict: String, stats: Option[HarnessStats], frame: Option[Array[Double]])
+  /** The verdict line, the stats (None if the harness wrote none) and the frame (raw doubles).
+    * `stopped`: the run ended at `--max-cycles` as asked, every result that came out checked; not
+    * a pass (the frame is unfinished), not a failure. */
+  final case class Outcome(passed: Boolean, verdict: String, stats: Option[HarnessStats], frame: Option[Array[Double]],
+                           stopped: Boolean = false)
 
   /** Runs `exe` on `image` and `expected`, writing into `outDir`; `progressLabel` shows a bar of
     * queries done from the harness's progress lines. */
@@ -169,13 +172,13 @@ object Harness {
         case l => errors.append(l).append('\n')
       }))
     bar.foreach(_.finish())
-    val verdict = stdout.toString.linesIterator.filter(l => l.startsWith("PASS") || l.startsWith("FAIL")).toSeq.lastOption.getOrElse(
+    val verdict = stdout.toString.linesIterator.filter(l => Seq("PASS", "FAIL", "STOPPED").exists(l.startsWith)).toSeq.lastOption.getOrElse(
       s"FAIL: harness exited with $rc without a verdict${if (errors.nonEmpty) ": " + errors.toString.trim.linesIterator.take(5).mkString(" | ") else ""}")
     val stats = Some(outDir.resolve("stats.json")).filter(Files.isRegularFile(_)).map(HarnessStats.read)
     val frame = Some(outDir.resolve("frame.f64")).filter(Files.isRegularFile(_)).map { p =>
       val b = java.nio.ByteBuffer.wrap(Files.readAllBytes(p)).order(java.nio.ByteOrder.LITTLE_ENDIAN)
       Array.fill(b.remaining / 8)(b.getDouble)
     }
-    Outcome(rc == 0 && verdict.startsWith("PASS"), verdict, stats, frame)
+    Outcome(rc == 0 && verdict.startsWith("PASS"), verdict, stats, frame, stopped = rc == 0 && verdict.startsWith("STOPPED"))
   }
 }

@@ -79,6 +79,7 @@ object HarnessHeader {
        |}
        |static const int COUNTER_COUNT = ${names.size};
        |static const char* const COUNTER_NAMES[] = {${(names.map(n => "\"" + n + "\"") :+ "nullptr").mkString(", ")}};
+       |static const char* const COUNTER_UNITS[] = {${(names.map(n => "\"" + MapmCounters.Units(n) + "\"") :+ "nullptr").mkString(", ")}};
        |static inline void readCounters(Top* t, uint64_t* v) {
        |${names.zipWithIndex.map { case (n, i) => s"  v[$i] = t->io_counters_$n;" }.mkString("\n")}
        |}

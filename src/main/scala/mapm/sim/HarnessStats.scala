@@ -11,7 +11,7 @@ import mapm.MapmError
   *
   * @param top                      the top module simulated
   * @param config                   the configuration block (TSM, SOM, ... by name); empty when the harness was built without one
-  * @param result                   `PASS` or `FAIL`
+  * @param result                   `PASS`, `FAIL`, or `STOPPED` (at `--max-cycles`, as asked: what came out was checked)
   * @param failure                  why it failed (None on a pass)
   * @param seed                     seed of the memory's response reordering
   * @param latency                  memory latency in cycles
@@ -36,6 +36,7 @@ import mapm.MapmError
   * @param bytesPerCycle            `bytesFetched / cycles`
   * @param gbPerSecond              `bytesPerCycle` at `clockGHz`
   * @param counters                 every counter of the top by name
+  * @param counterUnits             what each counter counts (`TSM-cycles` for the TSMs' stalls, summed over the TSMs); empty in the stats of older harnesses
   * @param wallSeconds              the harness's wall time
   * @param simulatedCyclesPerSecond `cycles / wallSeconds`
   * @param json                     the file as read, for writing it on with every key (`render`'s stats)
@@ -68,12 +69,16 @@ final case class HarnessStats(
     bytesPerCycle: Double,
     gbPerSecond: Double,
     counters: SeqMap[String, Long],
+    counterUnits: SeqMap[String, String],
     wallSeconds: Double,
     simulatedCyclesPerSecond: Double,
     json: ujson.Obj) {
   /** `full`, or `timing` when the SOAs were their timing model and the colours and
     * `soPassingCond` came from the model's expected SOs. */
   def fidelity: String = json.value.get("fidelity").flatMap(_.strOpt).getOrElse("full")
+
+  /** The run ended at `--max-cycles` as asked, before the frame was done. */
+  def stopped: Boolean = result == "STOPPED"
 }
 
 object HarnessStats {
@@ -128,6 +133,8 @@ object HarnessStats {
       d("clockGHz"), l("cycles"), l("queries"), l("queriesCompleted"), l("soIssued"), l("soPassingCond"), d("soPerCycle"),
       nullable("tsOps")(whole), nullable("tsOpsPerCycle")(num), wholes("stallCycles", at(top, "stallCycles")), caches,
       l("memoryRequests"), l("bytesFetched"), d("bytesPerCycle"), d("gbPerSecond"), wholes("counters", at(top, "counters")),
+      top.get("counterUnits").map(u => ListMap.from(obj(u, "counterUnits").iterator.map { case (n, v) =>
+        n -> v.strOpt.getOrElse(bad(s"counterUnits.$n", "a string")) })).getOrElse(ListMap.empty[String, String]),
       d("wallSeconds"), d("simulatedCyclesPerSecond"), json)
   }
 }

@@ -37,10 +37,11 @@ object Verilator {
   }
 
   /** Verilates `svFiles` with the C++ `harness` into an executable `dir/name` (built in
-    * `dir/obj`), using ccache when present and `ccache` is set. Returns the executable; a
-    * [[MapmError]] with the tail of the log when the build fails. */
+    * `dir/obj`), using ccache when present and `ccache` is set. `log` gets the build's progress
+    * ([[BuildProgress]]: a bar of C++ files on a terminal, else a status line every 30 s).
+    * Returns the executable; a [[MapmError]] with the tail of the log when the build fails. */
   def build(svFiles: Seq[Path], harness: Path, top: String, dir: Path, name: String,
-            extraFlags: Seq[String] = Seq.empty, ccache: Boolean = true): Path = {
+            extraFlags: Seq[String] = Seq.empty, ccache: Boolean = true, log: String => Unit = _ => ()): Path = {
     val exe = dir.resolve(name)
     val obj = dir.resolve("obj")
     Files.createDirectories(obj)
@@ -53,10 +54,12 @@ object Verilator {
     // private name) still hits the cache of an earlier one.
     val env = if (hasCcache) Seq("OBJCACHE" -> "ccache", "CCACHE_BASEDIR" -> dir.toAbsolutePath.toString, "CCACHE_NOHASHDIR" -> "1")
       else Seq("CCACHE_DISABLE" -> "1")
-    val log = new StringBuilder
-    val rc = Process(cmd, dir.toFile, env: _*).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
+    val output = new StringBuilder
+    val progress = new BuildProgress(top, obj, top, log)
+    def take(l: String): Unit = { output.synchronized(output.append(l).append('\n')); progress.line(l) }
+    val rc = try Process(cmd, dir.toFile, env: _*).!(ProcessLogger(take, take)) finally progress.close()
     if (rc != 0 || !Files.isExecutable(exe)) {
-      val tail = log.toString.linesIterator.toSeq.takeRight(15).mkString("\n")
+      val tail = output.toString.linesIterator.toSeq.takeRight(15).mkString("\n")
       MapmError.fail(s"verilator build of $top failed (exit $rc) in $dir:\n$tail")
     }
     exe

@@ -127,4 +127,48 @@ class CliWalkSpec extends AnyFunSuite {
     assert(!value.contains("Expected Signature"), value)
     assert(Args.nearest("--sed", Set("--seed", "--scene")) == Some("--seed") && Args.nearest("--qu", Set("--quick", "--out")) == Some("--quick"))
   }
+
+  /** Each option's entry in `cmd --help` (its line and the indented lines after it, spaces
+    * collapsed), by option name. */
+  private def helpEntries(cmd: Command): Seq[(String, String)] = {
+    val o = new ByteArrayOutputStream
+    assert(Console.withOut(o)(cmd.run(Seq("--help"))) == 0)
+    o.toString("UTF-8").split("\n(?=  -)").toSeq.tail.map(_.replaceAll("\\s+", " ").trim)
+      .map(e => """(--[a-z][a-z0-9-]*)""".r.findFirstIn(e).get -> e)
+  }
+
+  test("--help lists what the parser takes, each default read from the parser, and the shown default parses back to it") {
+    for (cmd <- Main.commands) {
+      val listed = helpEntries(cmd)
+      assert(listed.map(_._1) == cmd.options.map(_.name), s"${cmd.name}: the help lists every option the parser takes, once")
+      val problems = listed.flatMap { case (name, said) =>
+        val o = cmd.options.find(_.name == name).get
+        val roundTrip = (o.defaultValue, o.defaultText, o.reader) match {
+          case (Some(v), Some(t), r: mainargs.TokensReader.Simple[_]) if !v.isInstanceOf[Option[_]] =>
+            r.read(Seq(t)) match {
+              case Right(back) if back == v => None
+              case other => Some(s"${cmd.name} $name: shows default '$t', which parses to $other, not $v")
+            }
+          case _ => None
+        }
+        // Every value option says its default (or that it is required, or what stands in for it).
+        val stated = if (o.valueType.isEmpty || said.contains("(required)") || said.contains("default")) None
+          else Some(s"${cmd.name} $name: no default shown: $said")
+        roundTrip.toSeq ++ stated
+      }
+      assert(problems.isEmpty, problems.mkString("\n"))
+    }
+  }
+
+  test("--help says what matters at a glance: render's sizes default to 16/16/2, model takes fp64, evaluate takes no --scene") {
+    val render = helpEntries(RenderCommand).toMap
+    for ((o, d) <- Seq("--tsm" -> "16", "--som" -> "16", "--soa" -> "2", "--latency" -> "100", "--bandwidth" -> "14", "--clock-ghz" -> "1.5",
+        "--out" -> "out", "--scene" -> RenderCommand.defaultScene, "--fidelity" -> "full", "--ts-l1" -> "16K/32/2", "--rs-entries" -> "8 per SOA"))
+      assert(render(o).endsWith(s"(default: $d)"), render(o))
+    assert(helpEntries(ModelCommand).toMap.apply("--format").contains("fp64"))
+    val evaluate = helpEntries(EvaluateCommand).toMap
+    assert(!evaluate.contains("--scene") && evaluate("--fidelity").endsWith("(default: timing)"))
+    val e = intercept[MapmError](EvaluateCommand.run(Seq("--quick", "--scene", "x.json")))
+    assert(e.getMessage.startsWith("evaluate: unknown option --scene"), e.getMessage)
+  }
 }

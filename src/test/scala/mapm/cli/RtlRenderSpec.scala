@@ -1,6 +1,7 @@
 package mapm.cli
 
 import mapm.Slow
+import scala.jdk.CollectionConverters._
 import java.nio.file.{Files, Path, Paths}
 
 import mapm.model.TestScenes
@@ -40,18 +41,28 @@ class RtlRenderSpec extends AnyFunSuite {
     assert(Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.png")) && Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.pfm")))
   }
 
-  test("render --wave writes an FST of the chosen cycle window; --max-cycles fails naming the seed") {
+  test("render --wave writes an FST of the chosen cycle window and names it; --max-cycles is a stop reported as such") {
     assume(haveVerilator, "verilator is not on PATH: the RTL render test needs it")
     val out = Paths.get("target/rtl-render-test/out-wave")
     val wave = out.resolve("tiny.fst")
     Files.createDirectories(out)
     Files.deleteIfExists(wave)
-    assert(RenderCommand.render(tsm = 1, som = 1, soa = 1, wave = Some(wave.toString), waveStart = 100, waveEnd = 400,
-      opts = RtlOptions(scene = scene.toString, seed = 1, out = out.toString, threads = 2)) == 0)
+    val printed = new java.io.ByteArrayOutputStream
+    assert(Console.withOut(printed)(RenderCommand.render(tsm = 1, som = 1, soa = 1, wave = Some(wave.toString), waveStart = 100,
+      waveEnd = Some(400), opts = RtlOptions(scene = scene.toString, seed = 1, out = out.toString, threads = 2))) == 0)
     val bytes = Files.readAllBytes(wave)
     assert(bytes.length > 1000, "an FST with the window's signal changes")
-    val e = intercept[mapm.MapmError](RenderCommand.render(tsm = 1, som = 1, soa = 1,
-      opts = RtlOptions(scene = scene.toString, seed = 5, maxCycles = 500, out = out.toString, threads = 2)))
-    assert(e.getMessage.contains("FAIL seed=5: watchdog: --max-cycles 500 reached"), e.getMessage)
+    assert(printed.toString("UTF-8").contains(s"wrote ${wave.toAbsolutePath} (FST waveform of cycles 100 to 400"), printed)
+    // Stopped at 500 cycles as asked: exit 0, the stop said, nothing claimed to differ, no image.
+    Files.list(out).iterator.asScala.filter(_.toString.endsWith(".png")).foreach(Files.delete)
+    val stopped = new java.io.ByteArrayOutputStream
+    assert(Console.withOut(stopped)(RenderCommand.render(tsm = 1, som = 1, soa = 1,
+      opts = RtlOptions(scene = scene.toString, seed = 5, maxCycles = 500, out = out.toString, threads = 2))) == 0)
+    val text = stopped.toString("UTF-8")
+    assert(text.contains("per-SO check: STOPPED at cycle 500 as asked (--max-cycles 500)") && text.contains("not compared"), text)
+    assert(!text.contains("DIFFERENT") && !text.contains("FAIL") && !text.contains("PSNR of the RTL"), text)
+    assert(!Files.list(out).iterator.asScala.exists(_.toString.endsWith(".png")), "no image of an unfinished frame")
+    val stats = ujson.read(Files.readAllBytes(out.resolve("rtl-render-test-tiny-rtl-stats.json")))
+    assert(stats("result").str == "STOPPED" && stats("stoppedAtMaxCycles").bool && stats("frameEqualsModel").isNull && stats("cycles").num == 500)
   }
 }

@@ -56,7 +56,7 @@ class StressSpec extends AnyFunSuite {
     val stdout = new ByteArrayOutputStream()
     val e = intercept[MapmError](Console.withOut(stdout)(
       StressCommand.stress(seeds = 5, configs = "2/1/3", maxCycles = 1000, out = out.resolve("fail").toString, threads = 2)))
-    assert(e.getMessage.startsWith("stress: 2/1/3 seed 1 failed after 0 passing runs: ") && e.getMessage.contains("--max-cycles 1000"))
+    assert(e.getMessage.startsWith("stress: 2/1/3 seed 1 failed after 0 passing runs: ") && e.getMessage.contains("not finished within --max-cycles 1000"), e.getMessage)
     val text = stdout.toString("UTF-8")
     assert(text.contains("reproduce: tools/mapm render --scene test-scenes/cornell-box/scene-small.json --tsm 2 --som 1 --soa 3 ") &&
       text.contains("--seed 1 ") && text.contains("--wave stress-fail.fst --wave-start 0 --wave-end 1010"), text)

@@ -156,7 +156,7 @@ class HarnessSpec extends AnyFunSuite {
     assert(fast.stats.get.cycles < 8 * nq)
   }
 
-  test("harness: a wrong colour, a missing, an unexpected SO and the watchdog each FAIL with a clear reason") {
+  test("harness: a wrong colour, a missing and an unexpected SO each FAIL with a clear reason; --max-cycles is a stop, not a failure") {
     val recs = stubRecords
     val wrong = recs.updated(17, recs(17).copy(_3 = recs(17)._3.updated(1, recs(17)._3(1) ^ 1)))
     val o1 = run("wrong", wrong, Harness.RunOptions(seed = 5))
@@ -166,8 +166,16 @@ class HarnessSpec extends AnyFunSuite {
     assert(!o2.passed && o2.verdict.contains("1 expected SOs never came out (first: q=17, photon=4)"), o2.verdict)
     val o3 = run("unexpected", recs.filterNot(_._1 == 40), Harness.RunOptions())
     assert(!o3.passed && o3.verdict.contains("unexpected SO (q=40, photon=0)"), o3.verdict)
-    val o4 = run("watchdog", recs, Harness.RunOptions(maxCycles = 500))
-    assert(!o4.passed && o4.verdict.contains("watchdog: --max-cycles 500 reached"), o4.verdict)
+    val outs = Files.createDirectories(Harness.root.resolve("target/harness-test/stop")).resolve("results.txt")
+    val o4 = run("stop", recs, Harness.RunOptions(maxCycles = 500, results = Some(outs)))
+    assert(!o4.passed && o4.stopped && o4.verdict.startsWith("STOPPED at cycle 500 as asked (--max-cycles 500): "), o4.verdict)
+    assert(o4.stats.exists(s => s.stopped && s.cycles == 500 && s.failure.isEmpty), o4.stats)
+    // What came out before the stop was checked: a wrong colour in the first result out fails the stopped run.
+    val firstOut = Files.readAllLines(outs).get(0).split(' ')(2).toInt
+    val early = recs.indexWhere(_._1 == firstOut)
+    val o5 = run("wrong-then-stop", recs.updated(early, recs(early).copy(_3 = recs(early)._3.updated(0, recs(early)._3(0) ^ 1))),
+      Harness.RunOptions(maxCycles = 500))
+    assert(!o5.passed && !o5.stopped && o5.verdict.contains(s"mismatch SO (q=$firstOut,"), o5.verdict)
   }
 
   test("harness: a read outside the node, photon and query arrays FAILs (the DRAM model checks every request's range)") {
