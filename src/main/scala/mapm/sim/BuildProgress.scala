@@ -56,25 +56,22 @@ object BuildProgress {
     val t = new Thread(r, "mapm-build-progress"); t.setDaemon(true); t
   }
 
-  /** The C++ files make compiles for `top` in the Verilator output folder `obj`: the entries of
-    * the class, support and global lists of `V<top>_classes.mk` and the user files of
-    * `V<top>.mk` (Verilator 5 writes both before make starts). 0 when they cannot be read. */
+  /** The C++ files make compiles for `top` in the Verilator output folder `obj`, from the lists of
+    * `V<top>_classes.mk` and `V<top>.mk` (Verilator 5 writes both before make starts): the
+    * generated classes and support files, each its own file when `VM_PARALLEL_BUILDS` is 1, else
+    * one `__ALL` file together; the run-time library's global files; the user's files (the
+    * harness). 0 when the Makefiles cannot be read. */
   def units(obj: Path, top: String): Int = {
-    val lists = Set("VM_CLASSES_FAST", "VM_CLASSES_SLOW", "VM_SUPPORT_FAST", "VM_SUPPORT_SLOW", "VM_GLOBAL_FAST", "VM_GLOBAL_SLOW",
-      "VM_USER_CLASSES")
-    def entries(f: Path): Int =
-      if (!Files.isRegularFile(f)) 0
-      else {
-        var in = false
-        var n = 0
-        for (l <- Files.readAllLines(f).asScala) {
-          val t = l.trim
-          if (!in) in = lists.exists(v => t.startsWith(v + " ") || t.startsWith(v + "=")) && t.endsWith("\\")
-          else if (t.isEmpty || !t.endsWith("\\")) in = false
-          else n += 1
-        }
-        n
-      }
-    entries(obj.resolve(s"V${top}_classes.mk")) + entries(obj.resolve(s"V$top.mk"))
+    def lines(f: Path) = if (Files.isRegularFile(f)) Files.readAllLines(f).asScala.toSeq.map(_.trim) else Seq.empty
+    val files = Seq(lines(obj.resolve(s"V${top}_classes.mk")), lines(obj.resolve(s"V$top.mk")))
+    val all = files.flatten
+    // The entries of the list `v` (`v += \` or `v = \`, one entry a line up to a blank line).
+    def entries(v: String): Int = files.map { ls =>
+      val start = ls.indexWhere(t => (t.startsWith(v + " ") || t.startsWith(v + "=")) && t.endsWith("\\"))
+      if (start < 0) 0 else ls.drop(start + 1).takeWhile(t => t.nonEmpty && t.endsWith("\\") && !t.contains("=")).size
+    }.sum
+    val generated = Seq("VM_CLASSES_FAST", "VM_CLASSES_SLOW", "VM_SUPPORT_FAST", "VM_SUPPORT_SLOW").map(entries).sum
+    val parallel = !all.contains("VM_PARALLEL_BUILDS = 0")
+    (if (parallel) generated else generated.min(1)) + Seq("VM_GLOBAL_FAST", "VM_GLOBAL_SLOW", "VM_USER_CLASSES").map(entries).sum
   }
 }

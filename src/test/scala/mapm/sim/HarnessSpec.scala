@@ -1,5 +1,6 @@
 package mapm.sim
 
+import scala.jdk.CollectionConverters._
 import java.nio.file.{Files, Path}
 
 import mapm.format.{ExpectedSoFile, MemoryImage, SlotLayout}
@@ -124,6 +125,13 @@ class HarnessSpec extends AnyFunSuite {
     Files.createDirectories(dir)
     val img = dir.resolve("image.bin"); image.write(img)
     Harness.run(harness, img, writeExpected(dir.resolve("expected.bin"), recs), dir, opts)
+  }
+
+  test("harness build: the C++ file count its progress reads from Verilator's Makefiles is the objects make compiled") {
+    assume(verilatorPresent, "verilator is not on PATH: the harness tests need it")
+    val obj = exe.getParent.resolve("obj")
+    val objects = Files.list(obj).iterator.asScala.count(_.toString.endsWith(".o"))
+    assert(objects >= 3 && BuildProgress.units(obj, HarnessStub.name(params, None)) == objects)
   }
 
   test("harness: every SO checked, exact frame, stats (stand-in top, 100-cycle memory)") {
