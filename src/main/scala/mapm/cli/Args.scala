@@ -9,14 +9,13 @@ import mapm.params.{CacheParams, MapmParams}
 /** Helpers shared by the commands: running a mainargs parser with our error convention, and
   * token readers for the project's own argument types. */
 object Args {
-  /** Parses `args` for the single `@main` method of `container` and runs it. A parse error
-    * (unknown flag, bad value) becomes a [[MapmError]]; `--help` prints the usage ([[helpText]]).
-    * `defaults` gives the default, as `--help` shows it, of an option whose default value is None
-    * (what stands in for it is decided later); `hide` takes options of a shared group that this
-    * command does not take out of the help and the accepted options. */
-  def run[B](container: ParserForMethods[B], args: Seq[String], name: String, folders: Set[String] = Set("--out"),
-             files: Set[String] = Set("--wave"), defaults: Map[String, String] = Map.empty, hide: Set[String] = Set.empty): Int = {
-    val opts = options(container, defaults, hide)
+  /** Parses `args` for the single `@main` method of `cmd`'s parser and runs it. A parse error
+    * (unknown flag, bad value) becomes a [[MapmError]]; `--help` prints the usage ([[helpText]]
+    * of [[Command.options]]). The options in `folders` name output folders and those in `files`
+    * output files, made (or refused) before any work ([[checkOutputs]]). */
+  def run(cmd: Command, args: Seq[String], folders: Set[String] = Set("--out"), files: Set[String] = Set("--wave")): Int = {
+    val container = cmd.parser
+    val (name, opts) = (cmd.name, cmd.options)
     if (args.contains("--help") || args.contains("-h")) {
       println(helpText(name, opts))
       return 0

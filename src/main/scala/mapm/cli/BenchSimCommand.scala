@@ -81,5 +81,5 @@ object BenchSimCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = Args.run(parser, args, name)
+  def run(args: Seq[String]): Int = Args.run(this, args)
 }

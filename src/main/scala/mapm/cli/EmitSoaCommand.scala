@@ -47,5 +47,5 @@ object EmitSoaCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = Args.run(parser, args, name)
+  def run(args: Seq[String]): Int = Args.run(this, args)
 }

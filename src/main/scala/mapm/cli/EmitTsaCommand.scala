@@ -50,5 +50,5 @@ object EmitTsaCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = Args.run(parser, args, name)
+  def run(args: Seq[String]): Int = Args.run(this, args)
 }

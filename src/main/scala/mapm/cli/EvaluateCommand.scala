@@ -178,8 +178,7 @@ object EvaluateCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(parser, args, name, files = Set("--results"),
-    defaults = optionDefaults, hide = hiddenOptions) }
+  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(this, args, files = Set("--results")) }
 
   override def optionDefaults: Map[String, String] = Map("--fidelity" -> Fidelity.Timing.name)
   override def hiddenOptions: Set[String] = Set("--scene")

@@ -84,5 +84,5 @@ object KdtreeCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = Args.run(parser, args, name)
+  def run(args: Seq[String]): Int = Args.run(this, args)
 }

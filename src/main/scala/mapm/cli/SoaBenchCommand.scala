@@ -76,5 +76,5 @@ object SoaBenchCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = Args.run(parser, args, name)
+  def run(args: Seq[String]): Int = Args.run(this, args)
 }

@@ -155,5 +155,5 @@ object SweepCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(parser, args, name) }
+  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(this, args) }
 }

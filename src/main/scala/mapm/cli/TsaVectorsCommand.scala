@@ -114,5 +114,5 @@ object TsaVectorsCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = Args.run(parser, args, name, folders = Set.empty, files = Set("--out"))
+  def run(args: Seq[String]): Int = Args.run(this, args, folders = Set.empty, files = Set("--out"))
 }
