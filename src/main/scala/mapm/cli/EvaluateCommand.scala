@@ -48,7 +48,7 @@ object EvaluateCommand extends Command {
   def evaluate(
       @arg(doc = "the 4/4/2 and 16/16/2 rows alone (minutes once the builds are cached); every run has the SOAs as timing models unless --fidelity is given") quick: Flag,
       @arg(doc = "clock of the throughput, power and GB/s figures: GHz, or 'fmax' (the slower unit's; the default)") clock: Option[String] = None,
-      @arg(doc = "configurations run at once on this machine (default: the cores)") jobs: Int = Runtime.getRuntime.availableProcessors,
+      @arg(doc = "configurations run at once on this machine") jobs: Int = Runtime.getRuntime.availableProcessors,
       @arg(doc = "run each workload and configuration as a task of a Slurm job array and wait for the merged result (docs/cluster.md)") slurm: Flag,
       @arg(doc = "Slurm partition for --slurm (default: the cluster's)") partition: Option[String] = None,
       @arg(doc = "internal: run job N alone (a Slurm array task)") task: Option[Int] = None,

@@ -50,7 +50,7 @@ object SweepCommand extends Command {
       @arg(doc = "configurations TSM/SOM/SOA, comma separated (default: the 24 of Table 4.8)") configs: Option[String] = None,
       @arg(doc = "clock of the throughput, power and GB/s figures: GHz, or 'fmax' (the slower unit's, from the cost flow; the default)") clock: Option[String] = None,
       @arg(doc = "leave out the area and power columns (no cost flow; the clock is then --clock or --clock-ghz)") noCost: Flag,
-      @arg(doc = "configurations run at once on this machine (default: the cores)") jobs: Int = Runtime.getRuntime.availableProcessors,
+      @arg(doc = "configurations run at once on this machine") jobs: Int = Runtime.getRuntime.availableProcessors,
       @arg(doc = "run each configuration as a task of a Slurm job array and wait for the merged result (docs/cluster.md)") slurm: Flag,
       @arg(doc = "Slurm partition for --slurm (default: the cluster's)") partition: Option[String] = None,
       @arg(doc = "internal: run configuration N of the list alone (a Slurm array task)") task: Option[Int] = None,

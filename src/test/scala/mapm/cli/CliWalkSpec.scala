@@ -154,7 +154,8 @@ class CliWalkSpec extends AnyFunSuite {
         // Every value option says its default (or that it is required, or what stands in for it).
         val stated = if (o.valueType.isEmpty || said.contains("(required)") || said.contains("default")) None
           else Some(s"${cmd.name} $name: no default shown: $said")
-        roundTrip.toSeq ++ stated
+        val twice = if (o.defaultText.isDefined && o.doc.contains("default")) Some(s"${cmd.name} $name: a default in the doc and another shown: $said") else None
+        roundTrip.toSeq ++ stated ++ twice
       }
       assert(problems.isEmpty, problems.mkString("\n"))
     }
