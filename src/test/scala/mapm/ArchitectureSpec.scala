@@ -50,29 +50,51 @@ class ArchitectureSpec extends AnyFunSuite {
     assert(cycle(Map("a" -> Set("b", "c"), "b" -> Set("c"), "c" -> Set.empty[String])).isEmpty)
   }
 
+  private val hardware = Seq("util", "arith", "fpu", "params", "memory", "tsearch", "shader", "top")
+
+  /** The layering rules of docs/architecture.md, each a check of a package graph that returns its
+    * violations (none for a good graph). */
+  private val rules: Seq[(String, Map[String, Set[String]] => Seq[String])] = Seq(
+    "no package cycle" -> (g => cycle(g).map(c => s"cycle ${c.mkString(" -> ")}").toSeq),
+    "the hardware uses no host-side layer above it" -> (g =>
+      for (p <- hardware; d <- g.getOrElse(p, Set.empty).toSeq.sorted if Set("sim", "cli", "cost", "fuzz")(d)) yield s"$p uses $d"),
+    "the hardware uses the numerics, never the renderer" -> (g =>
+      for (p <- hardware if g.getOrElse(p, Set.empty)("model")) yield s"$p uses model"),
+    "the numerics sit at the bottom" -> (g => g.getOrElse("numerics", Set.empty).toSeq.sorted.map(d => s"numerics uses $d")),
+    "the renderer uses the numerics alone" -> (g => (g.getOrElse("model", Set.empty) - "numerics").toSeq.sorted.map(d => s"model uses $d")),
+    "the file formats and the parameters use no renderer" -> (g =>
+      for (p <- Seq("format", "params"); d <- g.getOrElse(p, Set.empty).toSeq.sorted if !Set("numerics", "format")(d)) yield s"$p uses $d"))
+
   test("the sources are found") {
     assume(Files.isDirectory(src), s"$src not found")
-    assert(Set("model", "params", "top", "sim", "cli").subsetOf(files.keySet), files.keySet)
+    assert(Set("numerics", "model", "params", "top", "sim", "cli").subsetOf(files.keySet), files.keySet)
   }
 
-  test("no package cycle") {
-    assert(cycle(deps).isEmpty, s"package cycle: ${cycle(deps).map(_.mkString(" -> ")).getOrElse("")}; graph: $deps")
+  for ((rule, check) <- rules) {
+    test(s"rule: $rule") {
+      val bad = check(deps)
+      assert(bad.isEmpty, s"${bad.mkString("; ")} (graph: $deps)")
+    }
+  }
+
+  test("each rule fails on a planted violation of it") {
+    val good = Map("numerics" -> Set.empty[String], "model" -> Set("numerics"), "format" -> Set("numerics"),
+      "params" -> Set("numerics", "format"), "shader" -> Set("params", "numerics"), "sim" -> Set("shader", "model"), "cli" -> Set("sim"))
+    val planted = Seq(
+      good.updated("numerics", Set("cli")),                   // a cycle (cli -> sim -> model -> numerics -> cli)
+      good.updated("shader", Set("params", "sim")),           // hardware using a host layer
+      good.updated("shader", Set("params", "model")),         // hardware using the renderer
+      good.updated("numerics", Set("format")),                // numerics not at the bottom
+      good.updated("model", Set("numerics", "format")),       // the renderer using more than the numerics
+      good.updated("format", Set("numerics", "model")))       // a file format using the renderer
+    for (((rule, check), g) <- rules.zip(planted)) {
+      assert(check(good).isEmpty, s"$rule: the good graph passes")
+      assert(check(g).nonEmpty, s"$rule: the planted violation is found")
+    }
   }
 
   test("the host-side layers import no Chisel") {
-    for (p <- Seq("model", "format", "cost", "fuzz"); (f, c) <- files.getOrElse(p, Nil))
+    for (p <- Seq("numerics", "model", "format", "cost", "fuzz"); (f, c) <- files.getOrElse(p, Nil))
       assert(!"""\bimport\s+(chisel3|chiseltest|circt)\b""".r.findFirstIn(c).isDefined, s"$f imports Chisel")
-  }
-
-  test("hardware packages depend on none of the host-side layers above them") {
-    val host = Set("sim", "cli", "cost", "fuzz")
-    for (p <- Seq("util", "arith", "fpu", "params", "memory", "tsearch", "shader", "top"))
-      assert((deps.getOrElse(p, Set.empty) & host).isEmpty, s"$p depends on ${deps(p) & host}")
-  }
-
-  test("the model, the file formats and the parameters sit at the bottom") {
-    assert(deps.getOrElse("model", Set.empty).isEmpty, s"model depends on ${deps("model")}")
-    assert(deps.getOrElse("format", Set.empty).subsetOf(Set("model")), s"format depends on ${deps("format")}")
-    assert(deps.getOrElse("params", Set.empty).subsetOf(Set("model", "format")), s"params depends on ${deps("params")}")
   }
 }

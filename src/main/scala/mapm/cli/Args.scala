@@ -3,7 +3,7 @@ package mapm.cli
 import mainargs.{ArgSig, ParserForClass, ParserForMethods, TokensReader}
 import mapm.MapmError
 import mapm.format.SlotLayout
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.params.{CacheParams, MapmParams}
 
 /** Helpers shared by the commands: running a mainargs parser with our error convention, and
@@ -50,7 +50,7 @@ object Args {
   /** The values a value type accepts, from the parsers of those types, for the help. */
   val choices: Map[String, String] = Map(
     "format" -> (FloatFormat.presets.map(_._1) :+ "E,M (exponent, fraction bits)").mkString(", "),
-    "arith" -> mapm.model.Arith.all.mkString(", "),
+    "arith" -> mapm.numerics.Arith.all.mkString(", "),
     "layout" -> SlotLayout.all.mkString(", "),
     "fidelity" -> mapm.params.Fidelity.all.mkString(", "),
     "geometry" -> "SIZE[/LINE[/WAYS]], e.g. 32K/32/4 or 512K/64/full")
@@ -153,10 +153,10 @@ object Args {
       catch { case e: MapmError => Left(e.getMessage) }
   }
 
-  implicit object ArithReader extends TokensReader.Simple[mapm.model.Arith] {
+  implicit object ArithReader extends TokensReader.Simple[mapm.numerics.Arith] {
     def shortName = "arith"
-    def read(strs: Seq[String]): Either[String, mapm.model.Arith] =
-      try Right(mapm.model.Arith.parse(strs.last))
+    def read(strs: Seq[String]): Either[String, mapm.numerics.Arith] =
+      try Right(mapm.numerics.Arith.parse(strs.last))
       catch { case e: MapmError => Left(e.getMessage) }
   }
 

@@ -2,7 +2,8 @@ package mapm.cli
 
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{FloatFormat, Parallel}
+import mapm.model.Parallel
+import mapm.numerics.FloatFormat
 import Args.FloatFormatReader
 
 /** `mapm bench-model`: the whole `model` pipeline of a scene, in process, timed.

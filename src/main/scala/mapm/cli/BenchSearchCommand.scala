@@ -3,6 +3,7 @@ package mapm.cli
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model._
+import mapm.numerics._
 import Args.FloatFormatReader
 
 /** `mapm bench-search`: speed of the model's tree search + shading on a synthetic workload.

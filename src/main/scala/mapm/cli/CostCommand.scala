@@ -4,7 +4,7 @@ import java.nio.file.{Files, Path, Paths}
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cost._
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 import Args.{ArithReader, FloatFormatReader}
 
 /** `mapm cost`: clock, area and power of one unit (`--unit`) or of a whole MAPM configuration

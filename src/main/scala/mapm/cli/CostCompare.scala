@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
 import mapm.cost.UnitCost
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 
 /** The online unit against the conventional one under one flow (`cost --compare`), in the layout
   * of the dissertation's Tables 4.6 and 4.7: each design's fmax, area, and dynamic and leakage

@@ -3,7 +3,8 @@ package mapm.cli
 import java.nio.file.Path
 import mapm.MapmError
 import mapm.cost._
-import mapm.model.{FloatFormat, Frame}
+import mapm.model.Frame
+import mapm.numerics.FloatFormat
 import mapm.sim.{Emit, Verilator, VerilatorPipe}
 import scala.concurrent.{Await, Future}
 import scala.concurrent.duration.Duration

@@ -3,8 +3,10 @@ package mapm.cli
 import mapm.MapmError
 import mapm.fpu.{FAdd, FDiv, FMul, FpuDepth}
 import mapm.model._
+import mapm.numerics._
 import mapm.params.NumberParams
-import mapm.shader.{CondCheck, OnlineDiv, OnlineMul, SOA, ShaderChain}
+import mapm.shader.{CondCheck, SOA, ShaderChain}
+import mapm.arith.{OnlineDiv, OnlineMul}
 import mapm.tsearch.TsaUnit
 
 /** One operation on a unit's input ports (values in [[CostUnit.inPorts]] order) and the output

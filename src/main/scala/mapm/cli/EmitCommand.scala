@@ -5,7 +5,7 @@ import java.nio.file.{Files, Paths}
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.format.SlotLayout
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 import mapm.sim.{Emit, EmitFiles}
 import mapm.params.{Fidelity, MapmParams}
 import mapm.top.Mapm

@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.file.Paths
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 import mapm.fpu.FpuDepth
 import mapm.shader.{CondCheck, ConvShaderChain, SOA, ShaderChain}
 import mapm.sim.Emit

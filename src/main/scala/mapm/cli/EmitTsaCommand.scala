@@ -4,7 +4,7 @@ import java.nio.file.Paths
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.fpu.FpuDepth
-import mapm.model.{Arith, FloatFormat, TsaModel}
+import mapm.numerics.{Arith, FloatFormat, TsaModel}
 import mapm.sim.Emit
 import mapm.tsearch.{ConvTSA, TsaUnit}
 import Args.ArithReader

@@ -1,7 +1,7 @@
 package mapm.cli
 
 import mainargs.{ParserForMethods, arg, main}
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import Args.FloatFormatReader
 
 /** `mapm format`: shows how a value is encoded in a float format (a quick check for users). */

@@ -2,7 +2,8 @@ package mapm.cli
 
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{Box, PhotonTree, Vec3}
+import mapm.model.{Box, PhotonTree}
+import mapm.numerics.Vec3
 
 /** `mapm kdtree`: builds the photon KD-tree of dissertation 3.1.4 over photons from a CSV file and
   * prints it node by node (pre-order), as in Table 3.1.

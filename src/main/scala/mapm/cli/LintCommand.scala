@@ -2,7 +2,7 @@ package mapm.cli
 
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.params.MapmParams
 import mapm.sim.{Harness, Lint, MapmRtl}
 import Args.FloatFormatReader

@@ -1,7 +1,8 @@
 package mapm.cli
 
 import mainargs.{ParserForMethods, arg, main}
-import mapm.model.{FloatFormat, Parallel}
+import mapm.model.Parallel
+import mapm.numerics.FloatFormat
 import Args.FloatFormatReader
 
 /** `mapm model`: the software render of a scene (see [[ModelRun]]). */

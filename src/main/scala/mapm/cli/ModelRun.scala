@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.file.{Files, Path, Paths}
 import mapm.MapmError
 import mapm.model._
-
+import mapm.numerics._
 /** The software render shared by `model` and `render`: scene file -> [[Frame]] -> tree search
   * and shading in the accelerator's arithmetic (the SOA bit for bit, [[ShadeArith.hardware]] with
   * `g` guard digits) and in float64 -> image files and stats JSON.

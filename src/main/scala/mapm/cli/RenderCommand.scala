@@ -4,7 +4,8 @@ import java.nio.file.{Files, Path, Paths}
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cli.Args.rtlOptionsParser
-import mapm.model.{Arith, ImageIO, Metrics, Render, RgbImage, ShadeArith, Vec3}
+import mapm.model.{ImageIO, Metrics, Render, RgbImage, ShadeArith}
+import mapm.numerics.{Arith, Vec3}
 import mapm.sim.MapmRtl
 
 /** `mapm render`: the main job. Renders a frame through the emitted RTL of a whole MAPM in

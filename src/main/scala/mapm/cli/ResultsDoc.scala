@@ -129,7 +129,7 @@ object ResultsDoc {
     line("| workload | cycles (diss.) | memory B (diss.) | GB/s (diss., 1.5 GHz) | cycles (ours) | memory B (ours) | GB/s (ours, 1.5 GHz) | GB/s (ours, at fmax) | SOQ share of bytes (ours) |")
     line("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     // The 16/16/2 the runs used (format, layout and sizes as given), for record and cache sizes.
-    val p16 = MapmParams.of(16, 16, 2, opts.format.getOrElse(mapm.model.FloatFormat.fp32), opts.g, opts.layout, opts.arith, tuning = opts.hw.tuning)
+    val p16 = MapmParams.of(16, 16, 2, opts.format.getOrElse(mapm.numerics.FloatFormat.fp32), opts.g, opts.layout, opts.arith, tuning = opts.hw.tuning)
     val soqLine = p16.caches.soq.lineBytes
     var tot = (0L, 0L)
     for ((k, cyc, bytes, gbs) <- Dissertation.table413) {

@@ -4,7 +4,8 @@ import java.nio.file.Path
 
 import mainargs.{arg, main}
 import mapm.format.SlotLayout
-import mapm.model.{Arith, FloatFormat, Parallel}
+import mapm.model.Parallel
+import mapm.numerics.{Arith, FloatFormat}
 import mapm.sim.Harness
 import mapm.params.Fidelity
 import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}

@@ -5,6 +5,7 @@ import java.nio.file.{Files, Path, Paths}
 import mapm.MapmError
 import mapm.format.{MemoryImage, SlotLayout}
 import mapm.model._
+import mapm.numerics._
 import mapm.sim.{ExpectedSo, Harness, MapmRtl}
 import mapm.params.{Fidelity, MapmParams, Tuning}
 import scala.concurrent.{Await, Future}
@@ -73,7 +74,7 @@ object RtlRun {
     Files.createDirectories(work)
     val t0 = System.nanoTime()
     val image = work.resolve("image.bin")
-    MemoryImage.from(frame.map, frame.querySet, layout).write(image)
+    mapm.sim.FrameImage.of(frame.map, frame.querySet, layout).write(image)
     val t1 = System.nanoTime()
     val expected = work.resolve("expected.bin")
     val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith)

@@ -2,7 +2,7 @@ package mapm.cli
 
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{FloatFormat, ShaderChainModel}
+import mapm.numerics.{FloatFormat, ShaderChainModel}
 import Args.FloatFormatReader
 
 /** `mapm soa-bench`: speed and accuracy of the shader-chain model on seeded random operations

@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.file.Paths
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{Arith, CondModel, ConvChainModel, FloatFormat, ShaderChainModel, ShaderVectors}
+import mapm.numerics.{Arith, CondModel, ConvChainModel, FloatFormat, ShaderChainModel, ShaderVectors}
 import mapm.shader.SOA
 import mapm.sim.SoaRunner
 import Args.{ArithReader, FloatFormatReader}

@@ -4,7 +4,8 @@ import java.nio.file.{Files, Paths}
 
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{FloatFormat, Parallel}
+import mapm.model.Parallel
+import mapm.numerics.FloatFormat
 import mapm.sim.Harness
 
 /** `mapm stress`: the whole MAPM's RTL under many random memory systems. For each configuration

@@ -9,7 +9,7 @@ import scala.concurrent.duration.Duration
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cli.Args.rtlOptionsParser
-import mapm.model.Arith
+import mapm.numerics.Arith
 import mapm.params.MapmParams
 
 /** `mapm sweep`: a design-space sweep over TSM/SOM/SOA configurations (default: the 24 of Table
@@ -146,7 +146,7 @@ object SweepCommand extends Command {
 
   /** The SOA's and TSA's figures in the sweep's format, g and arithmetic, and the clock: `fixed`, or the slower unit's fmax. */
   def unitCost(opts: RtlOptions, fixed: Option[Double], log: String => Unit): SweepReport.Cost = {
-    val fmt = opts.format.orElse(ModelRun.loadScene(opts.scene).format).getOrElse(mapm.model.FloatFormat.fp32)
+    val fmt = opts.format.orElse(ModelRun.loadScene(opts.scene).format).getOrElse(mapm.numerics.FloatFormat.fp32)
     val soa = UnitCostCache.get("soa", fmt, opts.g, opts.arith, log)
     val tsa = UnitCostCache.get("tsa", fmt, opts.g, opts.arith, log)
     val fmax = math.min(soa.fmaxGHz, tsa.fmaxGHz)

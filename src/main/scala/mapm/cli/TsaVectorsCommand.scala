@@ -5,8 +5,8 @@ import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Paths}
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
-import mapm.model.{Arith, ConvTsaModel, FloatFormat, TsaModel}
-import mapm.model.TsaModel.Outcome
+import mapm.numerics.{Arith, ConvTsaModel, FloatFormat, TsaModel}
+import mapm.numerics.TsaModel.Outcome
 import mapm.sim.TsaRunner
 import Args.{ArithReader, FloatFormatReader}
 

@@ -4,7 +4,7 @@ import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
 
 import mapm.MapmError
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 import mapm.cost.CostTools
 import mapm.sim.{BuildCache, Harness, MapmRtl}
 

@@ -1,6 +1,6 @@
 package mapm.format
 
-import mapm.model.NodeWord
+import mapm.numerics.NodeWord
 
 /** Turns [[Record]]s into a C++ header: per record a `NAME_BYTES` constant and per field an
   * inline little-endian getter (`static inline uint32_t node_split(const uint8_t* rec)`), so the

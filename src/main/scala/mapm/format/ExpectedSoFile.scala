@@ -4,7 +4,7 @@ import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.{Files, Path}
 
 import mapm.MapmError
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** The expected-SO file (docs/harness.md): the shader operations the MAPM must report for a
   * frame, as [[mapm.sim.ExpectedSo]] computes them and the harness (tools/harness/expected.h,

@@ -3,7 +3,7 @@ package mapm.format
 import java.nio.{ByteBuffer, ByteOrder}
 
 import mapm.MapmError
-import mapm.model.{FloatFormat, NodeWord, PhotonMap, QuerySet}
+import mapm.numerics.{FloatFormat, NodeWord}
 
 /** The binary memory image the MAPM hardware reads (docs/memory-layout.md): the header, the KD
   * node array, the photon array, the query array and the query stream, each starting at a
@@ -110,17 +110,6 @@ object MemoryImage {
     val pixelF: Field = queryR("pixel")
     val streamPosF: IndexedSeq[Field] = IndexedSeq("x", "y", "z").map(streamR(_))
     val streamQueryF: Field = streamR("query")
-  }
-
-  /** The image of a photon map and its queries; the stream issues the queries in `order`
-    * (default: query order). */
-  def from(map: PhotonMap, queries: QuerySet, layout: SlotLayout = SlotLayout.Packed, order: Option[Array[Int]] = None): MemoryImage = {
-    MapmError.check(map.format == queries.format, s"memory image: photon map (${map.format}) and queries (${queries.format}) use different formats")
-    val stream = order.getOrElse(Array.tabulate(queries.size)(identity))
-    MapmError.check(stream.sorted.sameElements(0 until queries.size), "memory image: the stream order must be a permutation of the queries")
-    new MemoryImage(map.format, layout, map.h, map.split.clone(), NodeWord.all(map.tree),
-      Array(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).map(_.clone()),
-      queries.contribution.map(_.clone()), queries.pixel.clone(), Array(queries.qx, queries.qy, queries.qz).map(_.clone()), stream.clone())
   }
 
   def read(path: java.nio.file.Path): MemoryImage = {

@@ -1,7 +1,7 @@
 package mapm.format
 
 import mapm.MapmError
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** How format values sit in the image's records: each value in a slot of 2, 4 or 8 bytes (its
   * bits zero-extended), the smallest that holds the format and is at least `minSlot`.
@@ -57,7 +57,7 @@ object MemoryLayout {
     MapmError.check(SlotSizes.contains(slot), s"memory layout: no records for $slot-byte slots (${SlotSizes.mkString(", ")})")
 
   /** A KD node record: the split value (in at least 4 bytes), then the node word
-    * ([[mapm.model.NodeWord]]): 8 bytes for slots up to 4 bytes, 16 for 8-byte slots. The node
+    * ([[mapm.numerics.NodeWord]]): 8 bytes for slots up to 4 bytes, 16 for 8-byte slots. The node
     * array starts right after the header. */
   def node(slot: Int): Record = {
     checkSlot(slot)

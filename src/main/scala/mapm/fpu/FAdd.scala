@@ -2,7 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Operands of [[FAdd]]: a and b, and `sub` to compute a - b instead of a + b. */
 class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
@@ -10,7 +10,7 @@ class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
 }
 
 /** Pipelined floating-point adder/subtractor: out = a + b (or a - b when `sub`), correctly rounded
-  * to nearest even in format `fmt`, bit-exact with [[mapm.model.SoftFloat.add]] / `sub` (flush of
+  * to nearest even in format `fmt`, bit-exact with [[mapm.numerics.SoftFloat.add]] / `sub` (flush of
   * zero-exponent inputs and of results below the smallest normal, overflow to infinity, canonical
   * NaN; docs/fpu.md).
   *

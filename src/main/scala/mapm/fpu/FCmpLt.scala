@@ -2,10 +2,10 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Pipelined floating-point comparison: out = a < b in format `fmt`, bit-exact with
-  * [[mapm.model.SoftFloat.lt]]: false when either operand is a NaN; zeros of both signs, and
+  * [[mapm.numerics.SoftFloat.lt]]: false when either operand is a NaN; zeros of both signs, and
   * patterns with exponent field 0, are all equal to zero; infinities order as usual.
   *
   * One step (sign-magnitude compare) ended by a register when `stages` is 1. Latency: `stages`
@@ -26,7 +26,7 @@ class FCmpLt(val fmt: FloatFormat, val stages: Int = 1) extends Module with Plan
   io.out.valid := p.finish()
 }
 
-/** The order of two bit patterns of `fmt` as [[mapm.model.SoftFloat.lt]] defines it (NaNs are
+/** The order of two bit patterns of `fmt` as [[mapm.numerics.SoftFloat.lt]] defines it (NaNs are
   * unordered, zeros of both signs and the patterns with exponent field 0 are all zero,
   * infinities order as usual), split in two steps so that a register may sit between them: the
   * magnitudes' upper and lower halves are compared on their own ([[OrderParts.apply]]), then

@@ -2,10 +2,10 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Pipelined floating-point divider: out = a / b, correctly rounded to nearest even in format
-  * `fmt`, bit-exact with [[mapm.model.SoftFloat.div]] (flush of zero-exponent inputs and of
+  * `fmt`, bit-exact with [[mapm.numerics.SoftFloat.div]] (flush of zero-exponent inputs and of
   * results below the smallest normal, overflow to infinity, x / 0 = infinity, canonical NaN;
   * docs/fpu.md).
   *

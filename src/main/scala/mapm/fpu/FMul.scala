@@ -2,10 +2,10 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Pipelined floating-point multiplier: out = a * b, correctly rounded to nearest even in format
-  * `fmt`, bit-exact with [[mapm.model.SoftFloat.mul]] (flush of zero-exponent inputs and of
+  * `fmt`, bit-exact with [[mapm.numerics.SoftFloat.mul]] (flush of zero-exponent inputs and of
   * results below the smallest normal, overflow to infinity, canonical NaN; docs/fpu.md).
   *
   * Steps ([[FMul.weights]]), any of which a register may end ([[PipelinePlan]]):

@@ -2,7 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Two operand bit patterns of format `fmt`. */
 class FOperands(fmt: FloatFormat) extends Bundle {

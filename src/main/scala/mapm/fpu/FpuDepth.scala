@@ -1,6 +1,6 @@
 package mapm.fpu
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.params.NumberParams
 
 /** Register stages (latency in cycles) of each conventional floating-point unit: [[FAdd]],

@@ -6,7 +6,8 @@ import java.util.concurrent.{Executors, TimeUnit, TimeoutException}
 import scala.util.Random
 
 import mapm.MapmError
-import mapm.model.{ObjLoader, SceneConfig, Vec3}
+import mapm.model.{ObjLoader, SceneConfig}
+import mapm.numerics.Vec3
 
 /** Fuzzes the readers of user files: the OBJ/MTL loader ([[ObjLoader]]) and the scene-file reader
   * ([[SceneConfig]], which also loads the OBJ it names). Input `i` of seed `s` is generated from

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
 
 /** A pinhole camera (3.1.5 step 1).

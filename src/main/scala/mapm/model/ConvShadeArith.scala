@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** The shader arithmetic of the conventional SOA (`mapm.shader.SOA` with conventional arithmetic),
   * bit for bit: the colour of [[ConvChainModel]] (four correctly rounded operations per channel,
   * the online chain's special cases and flags) and the cond check of [[CondModelCond]].

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** Direct illumination at the primary hits, for the viewable image only.
   *
   * The MAPM computes indirect light (3.1); direct light is added to the picture separately and is

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** Final gathering (3.1.5 step 2): the query points the MAPM searches the photon map around.
   *
   * From the primary hit x of every pixel, `rays` directions are drawn cosine-weighted about the

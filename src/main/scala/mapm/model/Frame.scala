@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** Wall-clock seconds of each stage of [[Frame.prepare]] and of the search-and-shade run. */
 final case class StageTimes(stages: Seq[(String, Double)]) {
   def +(stage: (String, Double)): StageTimes = StageTimes(stages :+ stage)

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** The operations a frame gives its arithmetic units, in search order, as bit patterns of the
   * frame's format: the inputs of every shader operation (for the SOA and the cond check) and of
   * every tree-search operation (for the TSA). The cost flow simulates the synthesized units on

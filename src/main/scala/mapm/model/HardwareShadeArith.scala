@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** The shader arithmetic of the hardware SOA (`mapm.shader.SOA`), bit for bit:
   *  - color / shade: the online colour chain [[ShaderChainModel]] with `g` guard digits
   *    (truncated result, the SOA's special cases and flags, see docs/soa.md);

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
 
 /** Chooses the kernel radius h for `"h": {"auto": k}`: the smallest h (to a relative precision of
@@ -28,7 +30,7 @@ object KernelRadiusChooser {
     MapmError.check(photonsPerQuery > 0 && photonsPerQuery <= tree.size,
       s"h auto: target of $photonsPerQuery photons per query must be in (0, ${tree.size}] (the photon count)")
     val box = tree.box
-    val search = new SearchTree(NodeWord.all(tree), tree.split)
+    val search = new SearchTree(tree.nodeWords, tree.split)
     val searcher = new TreeSearcher(search)
     val n = math.min(sampleSize, queries.length)
     val sample = Array.tabulate(n)(i => queries.position((i.toLong * queries.length / n).toInt))

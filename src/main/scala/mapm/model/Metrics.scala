@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** Image comparison figures. */
 object Metrics {
   /** Peak signal-to-noise ratio of `test` against `reference` (same length, any linear values), in

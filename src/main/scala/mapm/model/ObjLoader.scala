@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import java.io.{BufferedReader, IOException, Reader}
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}

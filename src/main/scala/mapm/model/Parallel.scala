@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import scala.jdk.CollectionConverters._
 
 /** Runs independent index ranges on worker threads: the one thread pool of the model. */

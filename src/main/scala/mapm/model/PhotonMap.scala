@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
 
 /** The photon map as the hardware sees it: the KD-tree plus every per-photon value quantized to a
@@ -84,7 +86,7 @@ object PhotonMap {
       }
       bar.foreach(_.advance((n & (chunk - 1)).toLong))
     }
-    val search = new SearchTree(NodeWord.all(tree), splitValue)
+    val search = new SearchTree(tree.nodeWords, splitValue)
     new PhotonMap(format, tree, hBits, px, py, pz, power, Array.fill(n)(kernelBits), Array.fill(n)(brdfBits), split, search)
   }
 }

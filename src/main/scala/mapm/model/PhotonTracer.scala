@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import scala.collection.mutable
 
 import mapm.MapmError

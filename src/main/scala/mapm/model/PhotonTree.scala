@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
 
 /** The photon KD-tree (photon map) exactly as dissertation 3.1.4 builds it, stored as flat arrays
@@ -54,6 +56,16 @@ final class PhotonTree private (
   lazy val levels: Int = if (depth.isEmpty) 0 else depth.max + 1
   /** Node photon position. */
   def position(i: Int): Vec3 = Vec3(x(i), y(i), z(i))
+
+  /** The [[NodeWord]] of node `i`. */
+  def nodeWord(i: Int): Int =
+    NodeWord.pack(axis(i), hasLeft(i), hasRight(i), leftIsLeaf(i), rightIsLeaf(i), if (hasRight(i)) right(i) else 0)
+
+  /** The words of all nodes; a [[mapm.MapmError]] when the tree has more nodes than the word's index field holds. */
+  def nodeWords: Array[Int] = {
+    NodeWord.checkSize(size.toLong)
+    Array.tabulate(size)(nodeWord)
+  }
 }
 
 object PhotonTree {

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import me.tongfei.progressbar.{ConsoleProgressBarConsumer, ProgressBar, ProgressBarBuilder, ProgressBarConsumer, ProgressBarStyle}
 
 /** A progress bar on stderr for stages that take more than a second, drawn by the progressbar

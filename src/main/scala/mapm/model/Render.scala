@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
 
 /** Operation counts of one search-and-shade run (the quantities of Table 4.10 and a few more).

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import java.util.SplittableRandom
 
 /** Random streams and the direction/point sampling shared by photon tracing, final gather and

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** A diffuse (Lambertian) material.
   *
   * @param name the name the OBJ/MTL files give it

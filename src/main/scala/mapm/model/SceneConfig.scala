@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import java.io.IOException
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}

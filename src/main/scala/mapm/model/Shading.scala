@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
 
 /** The arithmetic of one shader operation (dissertation 3.1.6 step 2 and 3.6.1), on bit patterns

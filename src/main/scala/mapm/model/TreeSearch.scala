@@ -1,47 +1,8 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
-
-/** Packing of a KD node's structure into one 32-bit word. The model's tree search reads it, and the
-  * memory image stores it as the second half of each 8-byte node record (docs/memory-layout.md).
-  *
-  * bits 1..0 split axis (0 = x, 1 = y, 2 = z); bit 2 has-left; bit 3 has-right; bit 4 left child is
-  * a leaf; bit 5 right child is a leaf; bits 31..6 right child index (0 when there is none). The
-  * left child, when present, is always the next node (pre-order numbering).
-  */
-object NodeWord {
-  final val AxisMask = 3
-  final val HasLeft = 1 << 2
-  final val HasRight = 1 << 3
-  final val LeftIsLeaf = 1 << 4
-  final val RightIsLeaf = 1 << 5
-  final val RightShift = 6
-  /** Width of the right-child index field, and the most nodes a tree may have so that every index
-    * fits it. */
-  final val IndexBits = 32 - RightShift
-  final val MaxNodes: Long = 1L << IndexBits
-
-  def axis(w: Int): Int = w & AxisMask
-  def right(w: Int): Int = w >>> RightShift
-
-  /** The word of node `i` of `tree`. */
-  def of(tree: PhotonTree, i: Int): Int =
-    tree.axis(i) |
-      (if (tree.hasLeft(i)) HasLeft else 0) | (if (tree.hasRight(i)) HasRight else 0) |
-      (if (tree.leftIsLeaf(i)) LeftIsLeaf else 0) | (if (tree.rightIsLeaf(i)) RightIsLeaf else 0) |
-      (if (tree.hasRight(i)) tree.right(i) << RightShift else 0)
-
-  /** Words of all nodes; a [[MapmError]] when the tree has more nodes than the index field holds. */
-  def all(tree: PhotonTree): Array[Int] = {
-    checkSize(tree.size.toLong)
-    Array.tabulate(tree.size)(of(tree, _))
-  }
-
-  /** A [[MapmError]] when a tree of `nodes` nodes has indices that the right-child field cannot hold. */
-  def checkSize(nodes: Long): Unit =
-    MapmError.check(nodes <= MaxNodes,
-      s"photon tree has $nodes nodes; the node record's $IndexBits-bit right-child index holds at most $MaxNodes (one node per photon)")
-}
 
 /** The two tree-search comparisons of dissertation 3.1.6 / 3.4.1, exact on their inputs:
   * TC_L = (p - h) < s and TC_R = (p + h) > s, strict, as real numbers.

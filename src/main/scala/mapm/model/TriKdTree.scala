@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import scala.collection.mutable
 
 /** The polygon map (3.1.4 step 1): a KD-tree over the scene's triangles for ray casting, built with

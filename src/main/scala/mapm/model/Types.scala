@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 /** A photon as photon tracing (3.1.4 step 2) leaves it, before the photon KD-tree is built.
   *
   * @param position where it landed (scene units, after the scene is moved into the positive octant)

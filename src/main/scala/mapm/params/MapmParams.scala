@@ -2,7 +2,7 @@ package mapm.params
 
 import chisel3.util.isPow2
 import mapm.format.{MemoryLayout, SlotLayout}
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 
 /** The colour channels of a photon's power, a query's contribution and a shader operation's
   * colour: r, g, b, in this order everywhere. */

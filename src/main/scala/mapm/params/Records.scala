@@ -3,11 +3,11 @@ package mapm.params
 import chisel3._
 import chisel3.util.{isPow2, log2Ceil}
 import mapm.format.{MemoryLayout, Record => Layout}
-import mapm.model.NodeWord
+import mapm.numerics.NodeWord
 
 /** The memory records the hardware reads (docs/memory-layout.md) as Chisel bundles: a cache word
   * is decoded with `.asTypeOf`. Sizes and offsets come from [[mapm.format.MemoryLayout]], the node
-  * word's bits from [[mapm.model.NodeWord]]; each bundle checks at elaboration that it matches them.
+  * word's bits from [[mapm.numerics.NodeWord]]; each bundle checks at elaboration that it matches them.
   * Records are little-endian (the field at byte 0 is bits 0 and up) and a bundle's last field is
   * its least significant one, so every bundle declares its fields from the record's end down.
   *
@@ -60,7 +60,7 @@ class FormatSlot(slotBytes: Int, width: Int) extends Bundle {
   val value = UInt(width.W)
 }
 
-/** The node word ([[mapm.model.NodeWord]]): split axis (3 invalid), whether each child exists and
+/** The node word ([[mapm.numerics.NodeWord]]): split axis (3 invalid), whether each child exists and
   * is a leaf, and the right child's index. */
 class NodeWordBits extends Bundle {
   val right = UInt(NodeWord.IndexBits.W)
@@ -73,7 +73,7 @@ class NodeWordBits extends Bundle {
   require(NodeWord.AxisMask == (1 << axis.getWidth) - 1 && NodeWord.HasLeft == 1 << axis.getWidth &&
     NodeWord.HasRight == NodeWord.HasLeft << 1 && NodeWord.LeftIsLeaf == NodeWord.HasRight << 1 &&
     NodeWord.RightIsLeaf == NodeWord.LeftIsLeaf << 1 && NodeWord.RightShift == axis.getWidth + 4,
-    "the node word bundle's bits differ from mapm.model.NodeWord's")
+    "the node word bundle's bits differ from mapm.numerics.NodeWord's")
   Records.requireWidth(this, "node word", MemoryLayout.node(4)("word").bytes)
 }
 

@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.fpu.{FAdd, FCmpLt, FMul, FpuDepth}
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Inputs of [[CondCheck]]: query point q, photon position p, kernel radius h (bit patterns of
   * the format) and an opaque tag that leaves with the result. */
@@ -26,7 +26,7 @@ class CondOut(tagWidth: Int) extends Bundle {
 
 /** The shader operation's distance condition (3.6.1) from conventional pipelined floating-point
   * units: cond = |q - p|^2 < h^2, each operation rounded to nearest even in `fmt`, in exactly the
-  * order of [[mapm.model.CondModel]], with which it is bit-exact:
+  * order of [[mapm.numerics.CondModel]], with which it is bit-exact:
   * {{{
   *   dx = qx - px;  dy = qy - py;  dz = qz - pz        3 FAdd (subtract)
   *   dx*dx, dy*dy, dz*dz, hh = h*h                     4 FMul

@@ -3,13 +3,13 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.fpu.{FDiv, FMul, FOperands, FloatFields, FpuDepth}
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.params.Rgb
 
 /** The conventional colour chain, the baseline of dissertation Table 4.5: per channel
   * colour_c = RN(RN(RN(RN(kernel · BRDF) / h) · power_c) · contribution_c), every operation an
   * IEEE-754 operation of the format rounded to nearest even, bit for bit
-  * [[mapm.model.ConvChainModel]] (../shared/vectors/conventional). Seven pipelined multipliers
+  * [[mapm.numerics.ConvChainModel]] (../shared/vectors/conventional). Seven pipelined multipliers
   * ([[FMul]]) and one divider ([[FDiv]]): MUL1 and the divider are shared by the channels, MUL2
   * and MUL3 are one per channel.
   *

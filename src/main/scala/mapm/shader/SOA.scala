@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.fpu.FpuDepth
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 import mapm.params.Rgb
 
 /** One shader operation for the [[SOA]]: the photon's kernel, BRDF and power (r, g, b), the
@@ -51,7 +51,7 @@ abstract class ShaderUnit extends Module {
 
 /** The shader-operation accelerator (dissertation 3.6): a colour chain (colour_c = ((kernel ·
   * BRDF) / h) · power_c · contribution_c, c = r, g, b) beside the conventional floating-point
-  * distance check [[CondCheck]] (|q − p|² < h², rounded as [[mapm.model.CondModel]]), both fed by
+  * distance check [[CondCheck]] (|q − p|² < h², rounded as [[mapm.numerics.CondModel]]), both fed by
   * the same operation in the same cycle. The colour chain is the online-arithmetic
   * [[ShaderChain]] with `arith` online (the default), and the conventional [[ConvShaderChain]]
   * with `arith` conventional (the baseline the dissertation compared it with, Table 4.5).

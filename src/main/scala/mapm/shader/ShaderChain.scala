@@ -1,10 +1,12 @@
 package mapm.shader
 
+import mapm.arith._
+
 import chisel3._
 import chisel3.util._
 import mapm.arith.P2S
 import mapm.fpu.FloatFields
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.params.Rgb
 
 /** One shader operation: the shared kernel, BRDF and h, and per colour channel (r, g, b) the

@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.fpu.FpuDepth
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 
 /** The timing model of an [[SOA]] (`--fidelity timing`, docs/harness.md): a delay line of exactly
   * the SOA's latency carrying `valid` and the tag (the query and photon indices), nothing else.

@@ -1,6 +1,6 @@
 package mapm.sim
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Exact, order-independent sums of format values, rounded to a double once: the frame
   * accumulation of the RTL render, identical to the Verilator harness's (tools/harness/accum.h),

@@ -6,7 +6,7 @@ import java.nio.file.{Files, Path}
 import mapm.MapmError
 import mapm.format.ExpectedSoFile
 import mapm.model._
-
+import mapm.numerics._
 /** The shader operations the MAPM must report for a frame, computed by the model in the
   * hardware's arithmetic, and the model frame accumulated from them exactly ([[ExactSum]]).
   *

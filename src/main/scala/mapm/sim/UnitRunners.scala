@@ -3,8 +3,8 @@ package mapm.sim
 import java.nio.file.Path
 import mapm.MapmError
 import mapm.fpu.FpuDepth
-import mapm.model.{Arith, FloatFormat, TsaModel}
-import mapm.model.TsaModel.Outcome
+import mapm.numerics.{Arith, FloatFormat, TsaModel}
+import mapm.numerics.TsaModel.Outcome
 import mapm.shader.{SOA, ShaderChain}
 import mapm.tsearch.TsaUnit
 

@@ -3,7 +3,7 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.fpu.{FAdd, FloatFields, OrderParts}
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** The conventional Tree Search Accelerator, the baseline of dissertation Figure 4.5: two
   * floating-point adders form p - h and -p - h (that is, -(p + h)), and two comparisons with s
@@ -17,7 +17,7 @@ import mapm.model.FloatFormat
   * whether its result lies above the exact sum (`FAdd` with `direction`: rounded up in value, an
   * overflow to +infinity, a flush to zero of a negative sum). So, with r_R = RN(-p - h),
   * TC_L = r_L < s or (r_L = s and r_L above p - h), TC_R = r_R < -s or (r_R = -s and r_R above -p - h),
-  * with no wider datapath ([[mapm.model.ConvTsaModel]] is the same rule in software; the tests check
+  * with no wider datapath ([[mapm.numerics.ConvTsaModel]] is the same rule in software; the tests check
   * it against exact decisions exhaustively at e3m3 and on the hard cases at fp32).
   *
   * An invalid operand (negative non-zero, infinite or NaN) sets `error` and both TC bits, as in

@@ -29,7 +29,7 @@ class ShiftPartial(width: Int) extends Bundle {
   * that shifts by one more. Levels shift by 2^i for i < log2Ceil(width); a distance with a higher
   * bit set shifts everything out, and so does any distance of `width` or more: the output is then
   * zero. Zeros are shifted in. The sticky bit is the OR of every bit shifted out (it lets the TSA
-  * keep the comparison exact; see `mapm.model.TsaModel`).
+  * keep the comparison exact; see `mapm.numerics.TsaModel`).
   *
   * The shifter comes in three combinational pieces so that a pipeline can register between them
   * (the TSA registers after each): [[decode]] (amount to [[ShiftDistance]]), [[coarse]] (the levels

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import mapm.arith.P2S
 import mapm.fpu.FloatFields
-import mapm.model.{Arith, FloatFormat, TsaModel}
+import mapm.numerics.{Arith, FloatFormat, TsaModel}
 
 /** One tree-search comparison: query coordinate p, kernel radius h, split position s (bit
   * patterns of `fmt`) and an opaque tag that comes back with the outcome. */
@@ -71,7 +71,7 @@ object TsaUnit {
   * Structure (Figure 3.12): [[ShiftAmountLogic]] and three [[ShiftRight]] align the three
   * significands to the largest exponent into words of W = manWidth + 3 bits (hidden bit,
   * mantissa, one guard bit, one sticky bit: the two extra bits make the decisions exact, see
-  * [[mapm.model.TsaModel]]), in four register stages: field extraction, the input check and the
+  * [[mapm.numerics.TsaModel]]), in four register stages: field extraction, the input check and the
   * Shift Amount Logic's subtractors in the first, its selection and the decoding of each amount
   * into shifter levels in the second, the three Shift Right units' upper levels in the third
   * ([[ShiftRight.coarse]]) and their lower and additional levels in the fourth

@@ -5,7 +5,7 @@ import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}
 import mapm.MapmError
 import mapm.cost.{CostTools, Liberty, Netlist}
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
 
 /** `mapm cost` on small units: the whole flow (synthesis, gate-level check, timing, power) on an

@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.file.{Files, Paths}
 
 import mapm.MapmError
-import mapm.model.{FloatFormat, NodeWord}
+import mapm.numerics.{FloatFormat, NodeWord}
 import mapm.params.{MapmParams, ModuleCounts}
 import mapm.top.Mapm
 import org.scalatest.funsuite.AnyFunSuite

@@ -2,6 +2,7 @@ package mapm.cli
 
 import java.nio.file.Files
 import mapm.model._
+import mapm.numerics._
 import org.scalatest.funsuite.AnyFunSuite
 
 /** The `model` render of the default Cornell box, end to end. */

@@ -1,6 +1,6 @@
 package mapm.cli
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
 
 /** The options `render` and `sweep` share, as the command line parses them: every option left

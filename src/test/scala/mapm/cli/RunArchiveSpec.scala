@@ -96,7 +96,7 @@ class RunArchiveSpec extends AnyFunSuite {
     assert(RunArchive.key(code, scene, base.copy(out = "elsewhere", threads = 7, simThreads = 2), (2, 1, 2)) == k)
     assert(RunArchive.key(code, scene, base.copy(scene = "/abs/path/" + scene), (2, 1, 2)) == k, "the scene is named relative to the checkout")
     for (other <- Seq(base.copy(latency = 101), base.copy(bandwidth = 7.0), base.copy(g = 4), base.copy(seed = 2),
-      base.copy(fidelity = Some(mapm.params.Fidelity.Timing)), base.copy(format = Some(mapm.model.FloatFormat.fp16)),
+      base.copy(fidelity = Some(mapm.params.Fidelity.Timing)), base.copy(format = Some(mapm.numerics.FloatFormat.fp16)),
       base.copy(hw = HwOptions(rsEntries = Some(8)))))
       assert(RunArchive.key(code, scene, other, (2, 1, 2)) != k, other.toString)
     assert(RunArchive.key(code, scene, base, (2, 1, 3)) != k)

@@ -59,7 +59,7 @@ class SweepSpec extends AnyFunSuite {
     // the unit reports the sweep used (the cache finds them without running the flow again), read
     // here from the cost flow's own cost.json files
     def report(unit: String) = {
-      val f = UnitCostCache.get(unit, mapm.model.FloatFormat(5, 4), 3, mapm.model.Arith.Online, l => fail(s"ran the flow again: $l")).file
+      val f = UnitCostCache.get(unit, mapm.numerics.FloatFormat(5, 4), 3, mapm.numerics.Arith.Online, l => fail(s"ran the flow again: $l")).file
       ujson.read(Files.readAllBytes(f))
     }
     val (soa, tsa) = (report("soa"), report("tsa"))

@@ -3,7 +3,7 @@ package mapm.cli
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
 import mapm.MapmError
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.testutil.TsaReference
 import org.scalatest.funsuite.AnyFunSuite
 import scala.sys.process._

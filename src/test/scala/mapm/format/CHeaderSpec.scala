@@ -3,6 +3,8 @@ package mapm.format
 import java.nio.file.{Files, Path, Paths}
 
 import mapm.model._
+
+import mapm.numerics._
 import org.scalatest.funsuite.AnyFunSuite
 import scala.sys.process._
 
@@ -98,7 +100,7 @@ class CHeaderSpec extends AnyFunSuite {
       val photons = Array.fill(40)(Photon(pt(), Vec3(rnd.nextDouble(), rnd.nextDouble(), rnd.nextDouble()), Vec3(0, -1, 0), Vec3(0, 1, 0)))
       val queries = Array.fill(12)(QueryPoint(pt(), rnd.nextInt(1000), Vec3(rnd.nextDouble(), rnd.nextDouble(), rnd.nextDouble()), Vec3(0, 1, 0)))
       val map = PhotonMap.build(photons, Box(Vec3.zero, Vec3(50, 40, 60)), f, 3.0)
-      val img = MemoryImage.from(map, QuerySet.build(queries, f), layout, Some(rnd.shuffle((0 until 12).toList).toArray))
+      val img = mapm.sim.FrameImage.of(map, QuerySet.build(queries, f), layout, Some(rnd.shuffle((0 until 12).toList).toArray))
       val rows = Seq.tabulate(30)(i => ExpectedSoFile.Row(rnd.nextInt(12), i, Seq.fill(3)(rnd.nextLong() & f.mask), Seq.fill(3)(rnd.nextInt(8)), rnd.nextBoolean()))
       Files.createDirectories(dir)
       val (imageFile, soFile) = (dir.resolve(s"${f.name}-$layout.img"), dir.resolve(s"${f.name}-$layout.so"))

@@ -3,7 +3,7 @@ package mapm.format
 import java.nio.file.Files
 
 import mapm.MapmError
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
 
 /** The expected-SO file: rows written by [[ExpectedSoFile.write]] come back from

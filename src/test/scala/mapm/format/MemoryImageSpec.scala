@@ -4,6 +4,7 @@ import java.nio.{ByteBuffer, ByteOrder}
 
 import mapm.MapmError
 import mapm.model._
+import mapm.numerics._
 import org.scalatest.funsuite.AnyFunSuite
 
 class MemoryImageSpec extends AnyFunSuite {
@@ -26,7 +27,7 @@ class MemoryImageSpec extends AnyFunSuite {
     test(s"write -> read -> equal for $f $layout ($slot-byte slots)") {
       val (map, queries) = scene(f, 1000, 300, f.width)
       val order = new scala.util.Random(1).shuffle((0 until 300).toList).toArray
-      val img = MemoryImage.from(map, queries, layout, Some(order))
+      val img = mapm.sim.FrameImage.of(map, queries, layout, Some(order))
       assert(img.slot == slot)
       val file = java.nio.file.Files.createTempFile("mapm", ".img")
       file.toFile.deleteOnExit()
@@ -50,7 +51,7 @@ class MemoryImageSpec extends AnyFunSuite {
     val photons = Table31.photons.map(p => Photon(p, Vec3(1, 1, 1), Vec3(0, -1, 0), Vec3(0, 1, 0)))
     val map = PhotonMap.build(photons, Table31.box, f, 100.0)
     val queries = QuerySet.build(Array(QueryPoint(Vec3(0, 358.739, 280.736), 42, Vec3(0.5, 0.25, 1.0), Vec3(0, 1, 0))), f)
-    val img = MemoryImage.from(map, queries)
+    val img = mapm.sim.FrameImage.of(map, queries)
     val bytes = img.toBytes
     val b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
     assert(new String(bytes.take(8), "US-ASCII") == "MAPMIMG1")
@@ -79,7 +80,7 @@ class MemoryImageSpec extends AnyFunSuite {
   test("fp16 packed bytes at the documented offsets") {
     val f = FloatFormat.fp16
     val (map, queries) = scene(f, 3, 2, 9)
-    val img = MemoryImage.from(map, queries, Packed)
+    val img = mapm.sim.FrameImage.of(map, queries, Packed)
     val b = ByteBuffer.wrap(img.toBytes).order(ByteOrder.LITTLE_ENDIAN)
     val pb = img.photonBase.toInt; val qb = img.queryBase.toInt; val sb = img.streamBase.toInt
     for (i <- 0 until 3; (field, k) <- Seq(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).zipWithIndex)
@@ -95,14 +96,14 @@ class MemoryImageSpec extends AnyFunSuite {
   test("fp64 bytes at the documented offsets: 16-byte nodes, 64-byte photons and queries, 32-byte stream entries") {
     val f = FloatFormat.fp64
     val (map, queries) = scene(f, 5, 3, 4)
-    val img = MemoryImage.from(map, queries, Packed)
+    val img = mapm.sim.FrameImage.of(map, queries, Packed)
     val b = ByteBuffer.wrap(img.toBytes).order(ByteOrder.LITTLE_ENDIAN)
     assert(b.getShort(8) == 2 && b.get(10) == 11 && b.get(11) == 52 && b.get(12) == 0 && b.get(13) == 8)
     assert(b.getLong(24) == java.lang.Double.doubleToLongBits(3.0) && b.getInt(16) == 5 && b.getInt(20) == 3)
     val pb = img.photonBase.toInt; val qb = img.queryBase.toInt; val sb = img.streamBase.toInt
     assert(pb == 192 && qb == pb + 5 * 64 && sb == qb + 3 * 64 && img.totalBytes == sb + 3 * 32)
     for (i <- 0 until 5) {
-      assert(b.getLong(64 + 16 * i) == map.split(i) && b.getInt(64 + 16 * i + 8) == NodeWord.all(map.tree)(i) && b.getInt(64 + 16 * i + 12) == 0)
+      assert(b.getLong(64 + 16 * i) == map.split(i) && b.getInt(64 + 16 * i + 8) == map.tree.nodeWords(i) && b.getInt(64 + 16 * i + 12) == 0)
       for ((field, k) <- Seq(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).zipWithIndex)
         assert(b.getLong(pb + 64 * i + 8 * k) == field(i))
     }
@@ -120,7 +121,7 @@ class MemoryImageSpec extends AnyFunSuite {
     val (m32, q32) = scene(FloatFormat.fp32, 10, 2, 1)
     assert(intercept[MapmError](NodeWord.checkSize(NodeWord.MaxNodes + 1)).getMessage.contains("26-bit right-child index"))
     NodeWord.checkSize(NodeWord.MaxNodes)
-    val bytes = MemoryImage.from(m32, q32).toBytes
+    val bytes = mapm.sim.FrameImage.of(m32, q32).toBytes
     assert(intercept[MapmError](MemoryImage.fromBytes(bytes.take(100), "x.img")).getMessage.contains("x.img"))
     val badMagic = bytes.clone(); badMagic(0) = 'X'
     assert(intercept[MapmError](MemoryImage.fromBytes(badMagic)).getMessage.contains("magic"))

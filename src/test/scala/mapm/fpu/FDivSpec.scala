@@ -2,7 +2,7 @@ package mapm.fpu
 
 import mapm.Slow
 import mapm.fpu.FpuTesting._
-import mapm.model.{FloatFormat, SoftFloat}
+import mapm.numerics.{FloatFormat, SoftFloat}
 import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 

@@ -1,6 +1,6 @@
 package mapm.fpu
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
 
 /** `verilator --lint-only -Wall` finds nothing in the emitted units, across formats and cuts. */

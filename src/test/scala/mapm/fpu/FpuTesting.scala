@@ -1,6 +1,6 @@
 package mapm.fpu
 
-import mapm.model.{FloatFormat, FloatGen}
+import mapm.numerics.{FloatFormat, FloatGen}
 
 /** Operand sets shared by the unit tests. */
 object FpuTesting {

@@ -45,7 +45,7 @@ class PipelinePlanSpec extends AnyFunSuite {
   }
 
   test("the default depth keeps every stage of FAdd and FMul within the default logic per stage") {
-    for (f <- Seq(mapm.model.FloatFormat.fp16, mapm.model.FloatFormat.fp32, mapm.model.FloatFormat.fp64)) {
+    for (f <- Seq(mapm.numerics.FloatFormat.fp16, mapm.numerics.FloatFormat.fp32, mapm.numerics.FloatFormat.fp64)) {
       val d = FpuDepth.of(f)
       for ((w, s) <- Seq(FAdd.weights(f) -> d.add, FMul.weights(f) -> d.mul))
         assert(PipelinePlan.heaviest(w, PipelinePlan.forStages(w, s)) <= mapm.params.NumberParams.DefaultFpuStageWeight, s"$f $w")

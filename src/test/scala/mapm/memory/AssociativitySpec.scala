@@ -1,7 +1,8 @@
 package mapm.memory
 
 import mapm.Slow
-import mapm.model.{Box, NodeWord, PhotonTree, SearchTree, TreeSearcher, Vec3}
+import mapm.model.{Box, PhotonTree, SearchTree, TreeSearcher}
+import mapm.numerics.{NodeWord, Vec3}
 import mapm.params.{CacheParams, CachesParams, MemoryParams}
 import org.scalatest.funsuite.AnyFunSuite
 import scala.util.Random
@@ -53,7 +54,7 @@ class AssociativitySpec extends AnyFunSuite {
     val photons = 65536 // 512 KiB of 8-byte nodes, twice the 256 KiB TS L2
     val pos = Array.fill(photons)(Vec3(rnd.nextDouble(), rnd.nextDouble(), 0.2 * rnd.nextDouble()))
     val tree = PhotonTree.build(pos, Box(Vec3(0, 0, 0), Vec3(1, 1, 0.2)))
-    val searcher = new TreeSearcher(new SearchTree(NodeWord.all(tree), tree.split))
+    val searcher = new TreeSearcher(new SearchTree(tree.nodeWords, tree.split))
     val g = t42.tsL2
     // Queries in scan order (pixels, as the CPU launches them), then in random order (no locality).
     val side = 160

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import org.scalatest.funsuite.AnyFunSuite
 
 class FinalGatherSpec extends AnyFunSuite {

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import org.scalatest.funsuite.AnyFunSuite
 
 /** FrameOps against the search-and-shade engine's own list of shader operations and operation

@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import java.nio.{ByteBuffer, ByteOrder}
 import java.nio.file.Files
 

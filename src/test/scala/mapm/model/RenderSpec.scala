@@ -1,5 +1,7 @@
 package mapm.model
 
+import mapm.numerics._
+
 import mapm.MapmError
 import org.scalatest.funsuite.AnyFunSuite
 

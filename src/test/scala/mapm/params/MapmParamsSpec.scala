@@ -1,6 +1,6 @@
 package mapm.params
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
 
 class MapmParamsSpec extends AnyFunSuite {

@@ -6,7 +6,7 @@ import chisel3._
 import chisel3.util.MixedVec
 import chiseltest._
 import mapm.format.MemoryLayout
-import mapm.model.NodeWord
+import mapm.numerics.NodeWord
 import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 

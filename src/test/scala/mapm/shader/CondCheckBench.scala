@@ -2,12 +2,12 @@ package mapm.shader
 
 import chisel3._
 import chisel3.util._
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** A test wrapper around 2^`laneBits` copies of [[CondCheck]] for exhaustive runs at a tiny
   * format: in every cycle lane l checks case k = hi·2^laneBits + l of the enumeration of all
   * 2^(7·w) inputs (w = format width; operand j = qx, qy, qz, px, py, pz, h for j = 0 … 6 is bits
-  * w·j … w·j + w − 1 of k, as `mapm.model.CondTables.operand`), so that one input word `io_hi`
+  * w·j … w·j + w − 1 of k, as `mapm.numerics.CondTables.operand`), so that one input word `io_hi`
   * per cycle drives 2^laneBits cases. `io_valid` goes to every lane's `in.valid`.
   *
   * Outputs: `io_cond`, lane l's cond at bit l; `io_allValid` and `io_anyValid`, the AND and the

@@ -3,7 +3,7 @@ package mapm.shader
 import mapm.Slow
 import mapm.fpu.{FpuDepth, LintCheck, StreamCheck}
 import mapm.fpu.FpuTesting.port
-import mapm.model.{CondGen, CondModel, CondTables, FloatFormat}
+import mapm.numerics.{CondGen, CondModel, CondTables, FloatFormat}
 import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 

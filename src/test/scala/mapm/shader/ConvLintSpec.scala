@@ -2,7 +2,7 @@ package mapm.shader
 
 import mapm.Slow
 import mapm.fpu.{FpuDepth, LintCheck}
-import mapm.model.{Arith, FloatFormat}
+import mapm.numerics.{Arith, FloatFormat}
 import mapm.tsearch.ConvTSA
 import org.scalatest.funsuite.AnyFunSuite
 

@@ -1,7 +1,7 @@
 package mapm.shader
 
 import mapm.Slow
-import mapm.model.{Arith, CondModel, ConvChainModel, ConvVectorFiles, FloatFormat, ShaderVectors}
+import mapm.numerics.{Arith, CondModel, ConvChainModel, ConvVectorFiles, FloatFormat, ShaderVectors}
 import mapm.sim.{PipeRunner, SoaRunner}
 import mapm.sim.SoaRunner.{Op, Out}
 import mapm.testutil.{Bubbles, ShaderCases, SharedFiles}

@@ -2,7 +2,7 @@ package mapm.shader
 
 import mapm.Slow
 import mapm.fpu.{FpuDepth, LintCheck}
-import mapm.model.{CondGen, CondModel, FloatFormat, ShaderChainModel}
+import mapm.numerics.{CondGen, CondModel, FloatFormat, ShaderChainModel}
 import mapm.testutil.{Bubbles, ShaderCases}
 import org.scalatest.funsuite.AnyFunSuite
 import mapm.sim.SoaRunner

@@ -1,7 +1,7 @@
 package mapm.shader
 
 import mapm.Slow
-import mapm.model.{FloatFormat, ShaderChainModel, ShaderVectorFiles, ShaderVectors}
+import mapm.numerics.{FloatFormat, ShaderChainModel, ShaderVectorFiles, ShaderVectors}
 import mapm.testutil.{Bubbles, ShaderCases, SharedFiles}
 import org.scalatest.funsuite.AnyFunSuite
 import mapm.sim.{PipeRunner, ShaderChainRunner}

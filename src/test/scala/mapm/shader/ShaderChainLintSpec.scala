@@ -2,7 +2,7 @@ package mapm.shader
 
 import mapm.Slow
 import java.nio.file.Files
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.sim.Emit
 import org.scalatest.funsuite.AnyFunSuite
 import scala.sys.process._

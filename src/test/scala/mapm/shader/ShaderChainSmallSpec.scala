@@ -1,7 +1,7 @@
 package mapm.shader
 
 import mapm.Slow
-import mapm.model.{FloatFormat, ShaderChainModel}
+import mapm.numerics.{FloatFormat, ShaderChainModel}
 import org.scalatest.funsuite.AnyFunSuite
 import mapm.sim.ShaderChainRunner
 import mapm.sim.ShaderChainRunner.Op

@@ -6,7 +6,7 @@ import java.nio.file.{Files, Path}
 import scala.sys.process._
 
 import mapm.cli.EmitCommand
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.params.MapmParams
 import org.scalatest.funsuite.AnyFunSuite
 

@@ -2,7 +2,7 @@ package mapm.sim
 
 import java.nio.file.{Files, Path, Paths}
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
 import scala.sys.process._
 

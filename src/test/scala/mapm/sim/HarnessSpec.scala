@@ -4,7 +4,7 @@ import scala.jdk.CollectionConverters._
 import java.nio.file.{Files, Path}
 
 import mapm.format.{ExpectedSoFile, MemoryImage, SlotLayout}
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.params.MapmParams
 import org.scalatest.funsuite.AnyFunSuite
 import java.math.{BigDecimal => JBig}

@@ -1,6 +1,6 @@
 package mapm.testutil
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Exact rational reference for the shader chain: kernel·BRDF/h·power·contribution of five
   * normal inputs as num/den·2^E with BigInt num and den, and the error of a result in units in

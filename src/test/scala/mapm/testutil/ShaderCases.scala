@@ -1,6 +1,6 @@
 package mapm.testutil
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Seeded random shader operations in the style of shader-chain.md §7: kernel, h and power with
   * exponents around 1.0, BRDF and contribution in (0, 1] (3 % exactly 1.0), 15 % of all operands

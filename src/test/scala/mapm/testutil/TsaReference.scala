@@ -1,6 +1,6 @@
 package mapm.testutil
 
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 
 /** Independent references and input generators for the TSA tests.
   *

@@ -4,7 +4,7 @@ import java.nio.file.Paths
 
 import mapm.Slow
 import mapm.cli.RtlRun
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.sim.Harness
 import org.scalatest.funsuite.AnyFunSuite
 

@@ -3,7 +3,7 @@ package mapm.top
 import mapm.Slow
 import mapm.format.SlotLayout
 import mapm.params._
-import mapm.model.FloatFormat
+import mapm.numerics.FloatFormat
 import mapm.sim.{Harness, Lint, MapmRtl}
 import org.scalatest.funsuite.AnyFunSuite
 

@@ -5,7 +5,8 @@ import java.nio.file.{Files, Path, Paths}
 import mapm.Slow
 import mapm.cli.RtlRun
 import mapm.format.{MemoryImage, SlotLayout}
-import mapm.model.{Arith, FloatFormat, TestScenes}
+import mapm.model.TestScenes
+import mapm.numerics.{Arith, FloatFormat}
 import mapm.params._
 import mapm.sim.{Harness, HarnessStats}
 import org.scalatest.funsuite.AnyFunSuite

@@ -8,7 +8,8 @@ import mapm.Slow
 import mapm.params._
 import mapm.format.{ExpectedSoFile, MemoryImage}
 import mapm.memory.{DramModel, DramTiming, MemImage}
-import mapm.model.{FloatFormat, Frame, SceneConfig, TestScenes}
+import mapm.model.{Frame, SceneConfig, TestScenes}
+import mapm.numerics.FloatFormat
 import mapm.sim.ExpectedSo
 import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
@@ -20,7 +21,7 @@ import scala.util.Random
   * random response order and gaps, protocol checks on every handshake) plays the memory, the
   * query stream has random gaps, and every result port is read every cycle. The multiset of
   * (query, photon, colour bits, flags, cond) must equal the model's ([[ExpectedSo]]: the tree
-  * search, [[mapm.model.ShaderChainModel]] and [[mapm.model.CondModel]]), and the counters its
+  * search, [[mapm.numerics.ShaderChainModel]] and [[mapm.numerics.CondModel]]), and the counters its
   * counts. A run that makes no progress for 5,000 cycles fails instead of hanging. */
 @Slow
 class MapmSystemSpec extends AnyFunSuite with Sim {
@@ -38,7 +39,7 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
          |  "directLightSamples": 0 }""".stripMargin
     val sceneFile = Files.write(dir.resolve(s"p$photons-${fmt.name}.json"), json.getBytes("UTF-8"))
     val frame = Frame.prepare(SceneConfig.load(sceneFile), fmt, 2)
-    val image = MemoryImage.from(frame.map, frame.querySet)
+    val image = mapm.sim.FrameImage.of(frame.map, frame.querySet)
     val file = dir.resolve(s"p$photons-${fmt.name}-expected.bin")
     val res = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, file, 2)
     val expected = ExpectedSoFile.read(file).rows.map(r => (r.query, r.photon) -> (r.colour, r.flags, r.cond))

@@ -1,8 +1,8 @@
 package mapm.tsearch
 
 import mapm.Slow
-import mapm.model.{ConvTsaModel, FloatFormat, SoftFloat}
-import mapm.model.TsaModel.Outcome
+import mapm.numerics.{ConvTsaModel, FloatFormat, SoftFloat}
+import mapm.numerics.TsaModel.Outcome
 import mapm.testutil.{Sim, TsaReference}
 import org.scalatest.funsuite.AnyFunSuite
 import TsaDriver.Op

@@ -2,8 +2,8 @@ package mapm.tsearch
 
 import chisel3._
 import chiseltest._
-import mapm.model.FloatFormat
-import mapm.model.TsaModel.Outcome
+import mapm.numerics.FloatFormat
+import mapm.numerics.TsaModel.Outcome
 import org.scalatest.Assertions
 
 /** Streams operations through a [[TSA]] or [[ConvTSA]] under chiseltest and checks what comes out.
