@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline._
+
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model._

@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline._
+
 import java.nio.file.{Files, Path}
 
 import mainargs.{Flag, ParserForMethods, arg, main}

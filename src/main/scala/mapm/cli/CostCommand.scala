@@ -1,5 +1,8 @@
 package mapm.cli
 
+import mapm.costflow._
+import mapm.pipeline._
+
 import java.nio.file.{Files, Path, Paths}
 import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError

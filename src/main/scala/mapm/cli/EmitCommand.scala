@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.sim._
+
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Paths}
 import mainargs.{ParserForMethods, arg, main}

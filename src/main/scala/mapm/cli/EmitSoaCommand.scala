@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.sim.SvStats
+
 import java.nio.file.Paths
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError

@@ -1,5 +1,9 @@
 package mapm.cli
 
+import mapm.evaluation._
+
+import mapm.pipeline._
+
 import java.nio.file.{Files, Paths}
 import java.util.concurrent.Executors
 
@@ -29,19 +33,6 @@ object EvaluateCommand extends Command {
   val name = "evaluate"
   val summary = "the dissertation's chapter 4 evaluation: four workloads through the RTL, a results page (out/results.md; --results docs/results.md for the committed one) with Tables 4.8-4.13"
 
-  /** A workload: its key, title, scene file (relative to the checkout) and configurations. */
-  final case class Workload(key: String, title: String, scene: String, configs: Seq[(Int, Int, Int)])
-
-  val quickConfigs: Seq[(Int, Int, Int)] = Seq((4, 4, 2), (16, 16, 2))
-
-  def workloads(quick: Boolean): Seq[Workload] = {
-    def pick(cs: Seq[(Int, Int, Int)]) = if (quick) cs.filter(quickConfigs.contains) else cs
-    Seq(Workload("cornell-2k", "Cornell box, 2k photons", "test-scenes/cornell-box/scene.json", pick(MapmParams.table48Configs)),
-      Workload("cornell-8k", "Cornell box, 8k photons", "test-scenes/cornell-box/scene-8k.json", pick(Dissertation.table411Configs)),
-      Workload("sponza-corridor", "Sponza corridor, 8k photons", "test-scenes/sponza/corridor.json", pick(Dissertation.table411Configs)),
-      Workload("sponza-atrium", "Sponza atrium, 8k photons", "test-scenes/sponza/atrium.json", pick(Dissertation.table411Configs)))
-  }
-
   @volatile private var rawArgs: Seq[String] = Seq.empty
 
   @main
@@ -68,8 +59,8 @@ object EvaluateCommand extends Command {
     MapmError.check(!(quick.value && (resume.value || budget.isDefined)), "evaluate: --resume and --budget are for the full run, not --quick")
     MapmError.check(!((slurm.value || task.isDefined || collect.value) && (resume.value || budget.isDefined)),
       "evaluate: --resume and --budget are for local runs, not --slurm")
-    val ws = workloads(quick.value)
-    def optsOf(w: Workload) = opts.copy(scene = Harness.root.resolve(w.scene).toString, fidelity = Some(fid))
+    val ws = Workloads.of(quick.value)
+    def optsOf(w: Workloads.Workload) = opts.copy(scene = Harness.root.resolve(w.scene).toString, fidelity = Some(fid))
     val jobsList = ws.flatMap(w => w.configs.map(c => (w, c)))
     val log: String => Unit = l => System.err.println(s"mapm: $l")
     task match {
@@ -99,7 +90,7 @@ object EvaluateCommand extends Command {
         }
         val rows = ws.map(w => w -> w.configs.map(SweepReport.readRow(SweepCommand.workDir(optsOf(w)), _)))
         val cost = SweepCommand.unitCost(opts, fixedClock, log)
-        val files = ResultsDoc.write(resultsFile, rows, cost, fid, quick.value, opts, parts)
+        val files = ResultsDoc.write(resultsFile, rows, cost, fid, quick.value, opts.resultsSettings, parts)
         files.foreach(f => println(s"wrote $f"))
         val failed = rows.flatMap(_._2).filterNot(_.passed)
         if (failed.nonEmpty) MapmError.fail(s"evaluate: ${failed.size} runs failed: " + failed.map(r => s"${r.label} (${r.result.failure})").mkString("; "))
@@ -116,11 +107,11 @@ object EvaluateCommand extends Command {
     * wall time so far; `resume` first takes the runs already kept under the same key
     * ([[RunArchive]]); without it the archive starts afresh. With `budget` (minutes) no job
     * starts after that time; the jobs left are for a later `--resume`. */
-  private def runLocal(ws: Seq[Workload], optsOf: Workload => RtlOptions, jobs: Int, resume: Boolean, budget: Option[Double],
+  private def runLocal(ws: Seq[Workloads.Workload], optsOf: Workloads.Workload => RtlOptions, jobs: Int, resume: Boolean, budget: Option[Double],
                        archive: Option[RunArchive], t0: Long, log: String => Unit): Seq[RunArchive.Part] = {
     val code = RunArchive.codeHash
-    def key(w: Workload, c: (Int, Int, Int)) = RunArchive.key(code, w.scene, optsOf(w), c)
-    def runDir(w: Workload, c: (Int, Int, Int)) = SweepReport.configDir(SweepCommand.workDir(optsOf(w)), c)
+    def key(w: Workloads.Workload, c: (Int, Int, Int)) = RunArchive.key(code, w.scene, optsOf(w).archiveText(w.scene), c)
+    def runDir(w: Workloads.Workload, c: (Int, Int, Int)) = SweepReport.configDir(SweepCommand.workDir(optsOf(w)), c)
     for (w <- ws; c <- w.configs) { // a result of an earlier, unrelated run in the work folder is not this run's
       Files.deleteIfExists(runDir(w, c).resolve("result.json"))
       Files.deleteIfExists(runDir(w, c).resolve("stats.json"))
@@ -143,7 +134,7 @@ object EvaluateCommand extends Command {
     val buildLocks = order.map(_._2).distinct.map(_ -> new Object).toMap
     val deadline = budget.map(m => t0 + (m * 60e9).toLong)
     @volatile var current = part
-    def finished(w: Workload, c: (Int, Int, Int)): Unit = synchronized {
+    def finished(w: Workloads.Workload, c: (Int, Int, Int)): Unit = synchronized {
       current = current.copy(wallSeconds = (System.nanoTime() - t0) / 1e9, runs = current.runs + 1)
       for (a <- archive) {
         if (SweepReport.readRow(SweepCommand.workDir(optsOf(w)), c).passed) a.save(w.key, c, key(w, c), part.index, runDir(w, c))

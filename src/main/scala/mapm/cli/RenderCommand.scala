@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline._
+
 import java.nio.file.{Files, Path, Paths}
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
@@ -24,7 +26,7 @@ import mapm.sim.MapmRtl
 object RenderCommand extends Command {
   val name = "render"
   val summary = "render a frame through the MAPM RTL in Verilator and check it against the model"
-  val defaultScene = "test-scenes/cornell-box/scene.json"
+  val defaultScene: String = ModelRun.defaultScene
 
   @main
   def render(

@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline._
+
 import java.nio.file.Path
 
 import mainargs.{arg, main}
@@ -45,6 +47,14 @@ final case class RtlOptions(
   def harness(wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue): Harness.RunOptions =
     Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave, waveStart, waveEnd, latencyMax, queryGap, reqStall,
       respGap, simThreads, tailProb, tailLatency)
+
+  /** The text of these options for [[mapm.evaluation.RunArchive.key]], on the scene file `scene` as
+    * named relative to the checkout: every option but the output folder and the worker threads. */
+  def archiveText(scene: String): String = copy(scene = scene, out = "", threads = 1, simThreads = 1).toString
+
+  /** The settings the results page states ([[mapm.evaluation.ResultsDoc.Settings]]). */
+  def resultsSettings: mapm.evaluation.ResultsDoc.Settings =
+    mapm.evaluation.ResultsDoc.Settings(format, g, arith, layout, hw.tuning, hw.describe, latency, bandwidth)
 
   /** [[RtlRun.configure]]: the scene, format and configurations `configs` checked, without running the model. */
   def check(configs: Seq[(Int, Int, Int)]): Unit = {

@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline._
+
 import java.nio.file.{Files, Paths}
 
 import mainargs.{ParserForMethods, arg, main}

@@ -1,5 +1,10 @@
 package mapm.cli
 
+import mapm.evaluation._
+
+import mapm.costflow._
+import mapm.pipeline._
+
 import java.nio.file.{Files, Path, Paths}
 import java.util.concurrent.Executors
 

@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.costflow._
+
 import mapm.Slow
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}

@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.evaluation._
+
 import mapm.Slow
 import java.nio.file.{Files, Paths}
 

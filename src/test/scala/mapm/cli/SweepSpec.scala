@@ -1,5 +1,9 @@
 package mapm.cli
 
+import mapm.evaluation._
+
+import mapm.costflow._
+
 import mapm.Slow
 import java.nio.file.{Files, Paths}
 

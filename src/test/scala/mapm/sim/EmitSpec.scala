@@ -1,7 +1,7 @@
 package mapm.sim
 
 import chisel3._
-import mapm.cli.SvStats
+import mapm.sim.SvStats
 import mapm.util.ClockGate
 import org.scalatest.funsuite.AnyFunSuite
 

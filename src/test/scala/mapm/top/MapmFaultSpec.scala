@@ -1,9 +1,11 @@
 package mapm.top
 
+import mapm.pipeline._
+
 import java.nio.file.Paths
 
 import mapm.Slow
-import mapm.cli.RtlRun
+import mapm.pipeline.RtlRun
 import mapm.numerics.FloatFormat
 import mapm.sim.Harness
 import org.scalatest.funsuite.AnyFunSuite

@@ -1,9 +1,11 @@
 package mapm.top
 
+import mapm.pipeline._
+
 import java.nio.file.{Files, Path, Paths}
 
 import mapm.Slow
-import mapm.cli.RtlRun
+import mapm.pipeline.RtlRun
 import mapm.format.{MemoryImage, SlotLayout}
 import mapm.model.TestScenes
 import mapm.numerics.{Arith, FloatFormat}

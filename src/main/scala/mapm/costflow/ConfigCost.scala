@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.costflow
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}

@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.evaluation
 
 /** The dissertation's chapter 4 figures that `evaluate` puts beside ours (90 nm, 1.5 GHz; Tables
   * 4.8-4.11 and 4.13, as printed). */

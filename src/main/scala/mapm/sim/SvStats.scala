@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.sim
 
 /** Figures read from emitted SystemVerilog text. */
 object SvStats {

@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.pipeline
 
 import java.nio.file.{Files, Path, Paths}
 

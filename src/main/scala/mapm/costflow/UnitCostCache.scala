@@ -1,4 +1,6 @@
-package mapm.cli
+package mapm.costflow
+
+import mapm.pipeline.ModelRun
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
@@ -35,11 +37,11 @@ object UnitCostCache {
     val cli = Harness.root.resolve("src/main/scala/mapm/cli")
     val sources = costSources.map(f => f + new String(Files.readAllBytes(cli.resolve(f)), UTF_8))
     val inputs = Seq(cu.top, unit, format.toString, g.toString, arith.name, CostFlow.defaultClocks.mkString(","), "both",
-      ops.toString, seed.toString, RenderCommand.defaultScene, MapmRtl.hardwareSourceHash) ++ sources ++ Seq(CostTools.versions)
+      ops.toString, seed.toString, ModelRun.defaultScene, MapmRtl.hardwareSourceHash) ++ sources ++ Seq(CostTools.versions)
     val dir = BuildCache.entry("cost-units", cu.top, inputs, d => Files.isRegularFile(d.resolve("cost.json"))) { tmp =>
       log(s"cost of the $unit ${cu.top} through the cost flow (once; cached in ${BuildCache.root.resolve("cost-units")}) ...")
-      val frame = try Some(CostFlow.frame(Harness.root.resolve(RenderCommand.defaultScene).toString, format)) catch { case _: MapmError => None }
-      val source = if (frame.isDefined) s"SOs/TS ops of ${RenderCommand.defaultScene}" else s"random operations (seed $seed)"
+      val frame = try Some(CostFlow.frame(Harness.root.resolve(ModelRun.defaultScene).toString, format)) catch { case _: MapmError => None }
+      val source = if (frame.isDefined) s"SOs/TS ops of ${ModelRun.defaultScene}" else s"random operations (seed $seed)"
       val flow = CostFlow(None, CostFlow.defaultClocks, "both", tmp)
       val online = arith == Arith.Online
       flow.unit(cu, format, if (unit == "soa" && online) Some(g) else None, CostUnits.ops(cu, format, g, frame, ops, seed, arith), seed, source)

@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.evaluation
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path, StandardCopyOption}
@@ -97,12 +97,12 @@ object RunArchive {
     Verilator.hash(files.map(f => Harness.root.relativize(f).toString + new String(Files.readAllBytes(f), UTF_8)): _*)
   }
 
-  /** The key of configuration `c` run with `opts` on the scene file `scene` (relative to the
-    * checkout): the code, the scene file's text and every option but the output folder and the
-    * worker threads (which do not change a figure). */
-  def key(code: String, scene: String, opts: RtlOptions, c: (Int, Int, Int)): String = {
+  /** The key of configuration `c` run on the scene file `scene` (relative to the checkout) with
+    * the options `settings` (their text, every option but the output folder and the worker
+    * threads, which do not change a figure): the code, the scene file's text, the settings. */
+  def key(code: String, scene: String, settings: String, c: (Int, Int, Int)): String = {
     val text = new String(Files.readAllBytes(Harness.root.resolve(scene)), UTF_8)
-    Verilator.hash(code, scene, text, opts.copy(scene = scene, out = "", threads = 1, simThreads = 1).toString, c.toString)
+    Verilator.hash(code, scene, text, settings, c.toString)
   }
 
   private def atomicWrite(f: Path, text: String): Unit = {

@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.costflow
 
 import mapm.cost.{GateSim, Liberty, Netlist, Sta}
 import mapm.model.Progress

@@ -1,4 +1,6 @@
-package mapm.cli
+package mapm.evaluation
+
+import mapm.costflow._
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}

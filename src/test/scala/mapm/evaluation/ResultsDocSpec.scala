@@ -1,4 +1,6 @@
-package mapm.cli
+package mapm.evaluation
+
+import mapm.costflow._
 
 import java.nio.file.{Files, Paths}
 
@@ -16,7 +18,7 @@ class ResultsDocSpec extends AnyFunSuite {
   test("evaluate's page: Tables 4.10, 4.8, 4.9, 4.11 and 4.13 side by side, ours from the runs, charts written and linked") {
     val dir = Paths.get("target/results-doc-test")
     mapm.sim.AtomicDir.delete(dir)
-    val ws = EvaluateCommand.workloads(quick = true)
+    val ws = Workloads.of(quick = true)
     assert(ws.map(_.configs) == Seq.fill(4)(Seq((4, 4, 2), (16, 16, 2))))
     // ours: half the dissertation's cycles (2k: Table 4.8's; 8k: Table 4.11's), 12 SO per cycle, 3 TS ops per cycle, 2 bytes per cycle
     def cyclesOf(key: String, c: (Int, Int, Int)): Long =
@@ -31,7 +33,8 @@ class ResultsDocSpec extends AnyFunSuite {
       UnitCostCache.Figures(u, u.toUpperCase + "_x", fmax, area, pj, 0.5, "test", dir.resolve(s"$u.json"))
     val cost = SweepReport.Cost(unit("soa", 6e6, 0.3, 300), unit("tsa", 0.25e6, 0.6, 2), 0.3, "fmax of the slower unit, the SOA")
     val file = dir.resolve("results.md")
-    val files = ResultsDoc.write(file, rows, cost, mapm.params.Fidelity.Timing, quick = true, RtlOptions(), Seq(RunArchive.Part(1, "2026-12-04T10:00Z", 123.0, 2, 2, 8)))
+    val files = ResultsDoc.write(file, rows, cost, mapm.params.Fidelity.Timing, quick = true,
+      ResultsDoc.Settings(None, 3, mapm.numerics.Arith.Online, mapm.format.SlotLayout.Packed, mapm.params.Tuning(), "caches and queues as Table 4.2 (the defaults)", 100, 14.0), Seq(RunArchive.Part(1, "2026-12-04T10:00Z", 123.0, 2, 2, 8)))
     val md = new String(Files.readAllBytes(file), "UTF-8")
     for (t <- Seq("Table 4.10", "Table 4.8", "Table 4.9", "Table 4.11", "Table 4.13")) assert(md.contains(s"## $t"), t)
     for (w <- ws.tail) assert(md.contains(s"### ${w.title}"))
@@ -62,16 +65,5 @@ class ResultsDocSpec extends AnyFunSuite {
     assert(pngs.size == 16 && pngs.forall(f => Files.size(f) > 0))
     for (f <- pngs) assert(md.contains(s"](results/${f.getFileName})"))
     for (w <- ws) assert(Files.isRegularFile(dir.resolve(s"results/${w.key}-sweep.csv")))
-  }
-
-  test("evaluate writes its page into the output folder unless --results names one: never docs/results.md unasked") {
-    assert(EvaluateCommand.resultsPath(None, "out") == Paths.get("out", "results.md"))
-    assert(EvaluateCommand.resultsPath(None, "/tmp/eval") == Paths.get("/tmp/eval/results.md"))
-    assert(EvaluateCommand.resultsPath(Some("docs/results.md"), "out") == Paths.get("docs/results.md"))
-    // The option's help says where the page goes by default.
-    val help = new java.io.ByteArrayOutputStream
-    Console.withOut(help)(Console.withErr(help)(EvaluateCommand.run(Seq("--help"))))
-    val text = help.toString("UTF-8").replaceAll("\\s+", " ") // the help wraps its lines
-    assert(text.contains("default: results.md in --out"), text)
   }
 }

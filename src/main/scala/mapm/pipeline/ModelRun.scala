@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.pipeline
 
 import java.nio.file.{Files, Path, Paths}
 import mapm.MapmError
@@ -23,6 +23,9 @@ object ModelRun {
   /** @param searchCpuSeconds process CPU seconds (all threads) during the format's search and shade */
   final case class Result(frame: Frame, indirect: Array[Double], reference: Array[Double], stats: SearchStats,
                           psnr: Double, times: StageTimes, files: Seq[Path], searchCpuSeconds: Option[Double])
+
+  /** The scene every command renders unless told otherwise: Table 4.8's Cornell-box frame. */
+  val defaultScene = "test-scenes/cornell-box/scene.json"
 
   /** `scene.json` is named after its folder; any other file after itself. */
   def sceneName(scene: Path): String = {

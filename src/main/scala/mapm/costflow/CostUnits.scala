@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.costflow
 
 import mapm.MapmError
 import mapm.fpu.{FAdd, FDiv, FMul, FpuDepth}

@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.evaluation
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path, Paths}
@@ -86,21 +86,5 @@ class RunArchiveSpec extends AnyFunSuite {
     archive.save("cornell-2k", (2, 1, 2), "k", 1, runFolder(d.resolve("ran"), 10))
     archive.clear()
     assert(archive.parts.isEmpty && !archive.restore("cornell-2k", (2, 1, 2), "k", d.resolve("back")))
-  }
-
-  test("the key follows the options that change a run, not the output folder or worker threads") {
-    val code = "c0"
-    val scene = "test-scenes/cornell-box/scene-small.json"
-    val base = RtlOptions(scene = scene)
-    val k = RunArchive.key(code, scene, base, (2, 1, 2))
-    assert(RunArchive.key(code, scene, base.copy(out = "elsewhere", threads = 7, simThreads = 2), (2, 1, 2)) == k)
-    assert(RunArchive.key(code, scene, base.copy(scene = "/abs/path/" + scene), (2, 1, 2)) == k, "the scene is named relative to the checkout")
-    for (other <- Seq(base.copy(latency = 101), base.copy(bandwidth = 7.0), base.copy(g = 4), base.copy(seed = 2),
-      base.copy(fidelity = Some(mapm.params.Fidelity.Timing)), base.copy(format = Some(mapm.numerics.FloatFormat.fp16)),
-      base.copy(hw = HwOptions(rsEntries = Some(8)))))
-      assert(RunArchive.key(code, scene, other, (2, 1, 2)) != k, other.toString)
-    assert(RunArchive.key(code, scene, base, (2, 1, 3)) != k)
-    assert(RunArchive.key("c1", scene, base, (2, 1, 2)) != k)
-    assert(RunArchive.key(code, "test-scenes/cornell-box/scene.json", base, (2, 1, 2)) != k)
   }
 }

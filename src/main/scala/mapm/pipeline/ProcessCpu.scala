@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.pipeline
 
 /** Process CPU time, for benchmarks that report what a run got when other processes share the
   * cores. None where the JVM does not expose it. */

@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.costflow
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}

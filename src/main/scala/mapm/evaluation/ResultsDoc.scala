@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.evaluation
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
@@ -10,7 +10,13 @@ import mapm.params.{Fidelity, MapmParams}
   * to the page). Every figure of ours comes from the runs' `stats.json` and the unit cost reports;
   * the dissertation's from [[Dissertation]]. */
 object ResultsDoc {
-  type Rows = Seq[(EvaluateCommand.Workload, Seq[SweepReport.Row])]
+  /** The settings the runs shared, as the page states them: the number format (None: the scenes'),
+    * guard digits, arithmetic, memory records, the sizes given (`tuning`; `sizes` says them in
+    * words) and the memory model's latency and bandwidth. */
+  final case class Settings(format: Option[mapm.numerics.FloatFormat], g: Int, arith: mapm.numerics.Arith, layout: mapm.format.SlotLayout,
+                            tuning: mapm.params.Tuning, sizes: String, latency: Int, bandwidth: Double)
+
+  type Rows = Seq[(Workloads.Workload, Seq[SweepReport.Row])]
 
   private def n(x: Long): String = f"$x%,d"
   private def d(x: Double, digits: Int = 3): String = if (x.isNaN || x.isInfinite) "" else s"%,.${digits}f".format(x)
@@ -29,19 +35,19 @@ object ResultsDoc {
   }
 
   /** Writes the page and its charts; returns the files written. */
-  def write(file: Path, rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, opts: RtlOptions,
+  def write(file: Path, rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, settings: ResultsDoc.Settings,
             parts: Seq[RunArchive.Part]): Seq[Path] = {
     val chartDir = Option(file.toAbsolutePath.getParent).getOrElse(file.toAbsolutePath).resolve("results")
     Files.createDirectories(chartDir)
     val charts = rows.map { case (w, rs) => w -> SweepReport.charts(chartDir, w.key, w.title, rs, Some(cost), cost.clockGHz) }
     for ((w, rs) <- rows) Files.write(chartDir.resolve(s"${w.key}-sweep.csv"), SweepReport.csv(rs, Some(cost), cost.clockGHz).getBytes(UTF_8))
-    Files.write(file, markdown(rows, cost, fidelity, quick, opts, parts, file, charts).getBytes(UTF_8))
+    Files.write(file, markdown(rows, cost, fidelity, quick, settings, parts, file, charts).getBytes(UTF_8))
     file +: charts.flatMap(_._2)
   }
 
   /** `parts`: the local runs that made the rows, one after another (none: merged by `--collect`). */
-  def markdown(rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, opts: RtlOptions, parts: Seq[RunArchive.Part],
-               file: Path, charts: Seq[(EvaluateCommand.Workload, Seq[Path])]): String = {
+  def markdown(rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, settings: ResultsDoc.Settings, parts: Seq[RunArchive.Part],
+               file: Path, charts: Seq[(Workloads.Workload, Seq[Path])]): String = {
     val sb = new StringBuilder
     def line(s: String = ""): Unit = sb ++= s + "\n"
     val byKey = rows.map { case (w, rs) => w.key -> rs.map(r => r.c -> r).toMap }.toMap
@@ -54,10 +60,10 @@ object ResultsDoc {
     line(s"Written by `tools/mapm evaluate${if (quick) " --quick" else ""}` (do not edit by hand; rerun it). " +
       s"${rows.map(_._2.size).sum} RTL runs on ${rows.size} workloads" +
       wall(parts) + ".")
-    if (quick) line(s"This is the quick run: the ${EvaluateCommand.quickConfigs.map(label).mkString(" and ")} rows of each table alone. `tools/mapm evaluate` runs them all.")
+    if (quick) line(s"This is the quick run: the ${Workloads.quickConfigs.map(label).mkString(" and ")} rows of each table alone. `tools/mapm evaluate` runs them all.")
     line()
     line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")
-    line(s"- Number format ${opts.format.map(_.toString).getOrElse("fp32")}, g = ${opts.g}, ${opts.arith} arithmetic; ${opts.hw.describe}; memory latency ${opts.latency} cycles, ${opts.bandwidth} bytes/cycle.")
+    line(s"- Number format ${settings.format.map(_.toString).getOrElse("fp32")}, g = ${settings.g}, ${settings.arith} arithmetic; ${settings.sizes}; memory latency ${settings.latency} cycles, ${settings.bandwidth} bytes/cycle.")
     line(f"- Cost by the dissertation's method (Table 4.9: unit figures times counts), from our open flow (yosys, OpenSTA, OSU 0.18 um): ${cost.soa.top} ${cost.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.soa.fmaxGHz * 1000}%.0f MHz, ${cost.soa.dynamicPjPerCycle}%.0f pJ/cycle; ${cost.tsa.top} ${cost.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.tsa.fmaxGHz * 1000}%.0f MHz, ${cost.tsa.dynamicPjPerCycle}%.0f pJ/cycle (docs/cost.md).")
     line(f"- Throughput, power and GB/s of ours at **$clk%.3f GHz** (${cost.clockSource}) where a column says \"at fmax\"; at the dissertation's 1.5 GHz where it says so, to compare cycles alone. The dissertation's figures are at 90 nm and 1.5 GHz.")
     line()
@@ -129,7 +135,7 @@ object ResultsDoc {
     line("| workload | cycles (diss.) | memory B (diss.) | GB/s (diss., 1.5 GHz) | cycles (ours) | memory B (ours) | GB/s (ours, 1.5 GHz) | GB/s (ours, at fmax) | SOQ share of bytes (ours) |")
     line("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     // The 16/16/2 the runs used (format, layout and sizes as given), for record and cache sizes.
-    val p16 = MapmParams.of(16, 16, 2, opts.format.getOrElse(mapm.numerics.FloatFormat.fp32), opts.g, opts.layout, opts.arith, tuning = opts.hw.tuning)
+    val p16 = MapmParams.of(16, 16, 2, settings.format.getOrElse(mapm.numerics.FloatFormat.fp32), settings.g, settings.layout, settings.arith, tuning = settings.tuning)
     val soqLine = p16.caches.soq.lineBytes
     var tot = (0L, 0L)
     for ((k, cyc, bytes, gbs) <- Dissertation.table413) {

@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.evaluation
 
 import java.awt.Color
 import java.nio.file.{Files, Path}

@@ -1,4 +1,6 @@
-package mapm.cli
+package mapm.costflow
+
+import mapm.pipeline._
 
 import java.nio.file.Path
 import mapm.MapmError

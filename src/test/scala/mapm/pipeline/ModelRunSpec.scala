@@ -1,4 +1,4 @@
-package mapm.cli
+package mapm.pipeline
 
 import java.nio.file.Files
 import mapm.model._
@@ -9,7 +9,7 @@ import org.scalatest.funsuite.AnyFunSuite
 class ModelRunSpec extends AnyFunSuite {
   test("the Cornell box renders with colour bleeding from the red and green walls") {
     val out = Files.createTempDirectory("mapm-model")
-    val r = ModelRun.run(RenderCommand.defaultScene, None, out.toString, threads = 2, quiet = true)
+    val r = ModelRun.run(ModelRun.defaultScene, None, out.toString, threads = 2, quiet = true)
     r.files.foreach(f => assert(Files.size(f) > 0, s"$f written"))
     val json = ujson.read(Files.readString(r.files.last))
     assert(json("queries").num == r.frame.queries.length)
