@@ -102,6 +102,30 @@ object Args {
     (s"usage: mapm $name [OPTIONS]" +: lines).mkString("\n")
   }
 
+  /** The command-line arguments that give the option group `group` (a mainargs class such as
+    * [[RtlOptions]], parsed by `parser`, its nested groups included) its values: `--name value`
+    * for each field under the name the parser reads, none for an absent Option or an unset flag.
+    * Parsing them gives `group` back (RtlOptionsSpec); a Slurm task reruns a command with them. */
+  def toArgs(group: Product, parser: TokensReader.Class[_]): Seq[String] =
+    parser.main.argSigs0.zip(group.productIterator.toSeq).flatMap { case (sig, value) =>
+      val name = "--" + sig.longName(mainargs.Util.kebabCaseNameMapper).getOrElse(sig.shortName.fold("")(_.toString))
+      def text(v: Any): String = v match {
+        case c: mapm.params.CacheSpec => c.text
+        case d: Double => java.math.BigDecimal.valueOf(d).stripTrailingZeros.toPlainString
+        case x => x.toString
+      }
+      (sig.reader, value) match {
+        case (nested: TokensReader.Class[_], g: Product) => toArgs(g, nested)
+        case (_, f: mainargs.Flag) => if (f.value) Seq(name) else Seq.empty
+        case (_, None) => Seq.empty
+        case (_, Some(v)) => Seq(name, text(v))
+        case (_, v) => Seq(name, text(v))
+      }
+    }
+
+  /** [[toArgs]] of the options `render`, `sweep` and `evaluate` share. */
+  def toArgs(opts: RtlOptions): Seq[String] = toArgs(opts, rtlOptionsParser)
+
   /** The option among `known` nearest to the mistyped `bad`: one it starts, or one within a third of
     * its letters (at least 2) in edit distance; none when nothing is that close. */
   def nearest(bad: String, known: Set[String]): Option[String] = {

@@ -33,8 +33,6 @@ object EvaluateCommand extends Command {
   val name = "evaluate"
   val summary = "the dissertation's chapter 4 evaluation: four workloads through the RTL, a results page (out/results.md; --results docs/results.md for the committed one) with Tables 4.8-4.13"
 
-  @volatile private var rawArgs: Seq[String] = Seq.empty
-
   @main
   def evaluate(
       @arg(doc = "the 4/4/2 and 16/16/2 rows alone (minutes once the builds are cached); every run has the SOAs as timing models unless --fidelity is given") quick: Flag,
@@ -72,7 +70,9 @@ object EvaluateCommand extends Command {
         0
       case None if slurm.value =>
         ws.foreach(w => optsOf(w).check(w.configs)) // every scene loads and fits before anything is submitted
-        val taskArgs = Slurm.strip(rawArgs, Set("--slurm"), Set("--partition", "--jobs"))
+        // Each task reruns this evaluation with the same options (not --slurm, --partition or --jobs).
+        val taskArgs = (if (quick.value) Seq("--quick") else Seq.empty) ++ clock.toSeq.flatMap(c => Seq("--clock", c)) ++
+          results.toSeq.flatMap(r => Seq("--results", r)) ++ Slurm.strip(Args.toArgs(opts), Set.empty, hiddenOptions)
         val rc = Slurm.run(name, taskArgs, jobsList.size, partition, Paths.get(opts.out).resolve("evaluate-slurm"), log)
         if (rc != 0) MapmError.fail(s"evaluate: the Slurm collect step ended with exit status $rc (logs in ${Paths.get(opts.out).resolve("evaluate-slurm")})")
         println(f"evaluate: ${jobsList.size} jobs through Slurm in ${(System.nanoTime() - t0) / 1e9}%.0f s")
@@ -169,7 +169,7 @@ object EvaluateCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(this, args, files = Set("--results")) }
+  def run(args: Seq[String]): Int = Args.run(this, args, files = Set("--results"))
 
   override def optionDefaults: Map[String, String] = Map("--fidelity" -> Fidelity.Timing.name)
   override def hiddenOptions: Set[String] = Set("--scene")

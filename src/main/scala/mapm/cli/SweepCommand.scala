@@ -47,9 +47,6 @@ object SweepCommand extends Command {
     ghz
   }
 
-  /** The arguments this command was started with (for the Slurm tasks, which rerun it). */
-  @volatile private var rawArgs: Seq[String] = Seq.empty
-
   @main
   def sweep(
       @arg(doc = "configurations TSM/SOM/SOA, comma separated (default: the 24 of Table 4.8)") configs: Option[String] = None,
@@ -78,7 +75,9 @@ object SweepCommand extends Command {
         0
       case None if slurm.value =>
         opts.check(list) // a scene or configuration error stops before anything is submitted
-        val taskArgs = Slurm.strip(rawArgs, Set("--slurm"), Set("--partition", "--jobs"))
+        // Each task reruns this sweep with the same options (not --slurm, --partition or --jobs).
+        val taskArgs = Seq("--configs", list.map { case (t, s, a) => s"$t/$s/$a" }.mkString(",")) ++
+          clock.toSeq.flatMap(c => Seq("--clock", c)) ++ (if (noCost.value) Seq("--no-cost") else Seq.empty) ++ Args.toArgs(opts)
         val rc = Slurm.run(name, taskArgs, list.size, partition, work.resolve("slurm"), log)
         if (rc != 0) MapmError.fail(s"sweep: the Slurm collect step ended with exit status $rc (logs in ${work.resolve("slurm")})")
         0
@@ -160,5 +159,5 @@ object SweepCommand extends Command {
 
   lazy val parser: ParserForMethods[_] = ParserForMethods(this)
 
-  def run(args: Seq[String]): Int = { rawArgs = args; Args.run(this, args) }
+  def run(args: Seq[String]): Int = Args.run(this, args)
 }

@@ -34,8 +34,8 @@ object UnitCostCache {
   def get(unit: String, format: FloatFormat, g: Int, arith: Arith, log: String => Unit): Figures = {
     MapmError.check(unit == "soa" || unit == "tsa", s"cost: unit costs of a sweep are soa or tsa, got '$unit'")
     val cu = CostUnits(unit, format, g, mapm.params.NumberParams.DefaultFpuStageWeight, arith)
-    val cli = Harness.root.resolve("src/main/scala/mapm/cli")
-    val sources = costSources.map(f => f + new String(Files.readAllBytes(cli.resolve(f)), UTF_8))
+    val srcDir = Harness.root.resolve("src/main/scala/mapm/costflow")
+    val sources = costSources.map(f => f + new String(Files.readAllBytes(srcDir.resolve(f)), UTF_8))
     val inputs = Seq(cu.top, unit, format.toString, g.toString, arith.name, CostFlow.defaultClocks.mkString(","), "both",
       ops.toString, seed.toString, ModelRun.defaultScene, MapmRtl.hardwareSourceHash) ++ sources ++ Seq(CostTools.versions)
     val dir = BuildCache.entry("cost-units", cu.top, inputs, d => Files.isRegularFile(d.resolve("cost.json"))) { tmp =>

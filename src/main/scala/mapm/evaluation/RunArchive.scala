@@ -87,12 +87,12 @@ object RunArchive {
     new RunArchive(Option(page.toAbsolutePath.getParent).getOrElse(page.toAbsolutePath).resolve("results").resolve("runs"))
 
   /** A hash of the sources that decide a run's figures: everything under src/main/scala/mapm but
-    * the command line's (the hardware, the model, the record formats, the simulation driver) and
+    * the command line's, the cost orchestration's and the evaluation's own (the hardware, the model, the record formats, the simulation driver) and
     * the C++ harness. */
   def codeHash: String = {
     val roots = Seq("src/main/scala/mapm", "tools/harness").map(Harness.root.resolve)
-    val skip = Harness.root.resolve("src/main/scala/mapm/cli")
-    val files = roots.flatMap(r => Files.walk(r).iterator.asScala.filter(f => Files.isRegularFile(f) && !f.startsWith(skip)))
+    val skip = Seq("cli", "costflow", "evaluation").map(p => Harness.root.resolve(s"src/main/scala/mapm/$p"))
+    val files = roots.flatMap(r => Files.walk(r).iterator.asScala.filter(f => Files.isRegularFile(f) && !skip.exists(f.startsWith)))
       .sortBy(_.toString)
     Verilator.hash(files.map(f => Harness.root.relativize(f).toString + new String(Files.readAllBytes(f), UTF_8)): _*)
   }

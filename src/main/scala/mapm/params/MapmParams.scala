@@ -66,6 +66,8 @@ final case class CacheSpec(
     CacheParams(size, line, w)
   }
   def isEmpty: Boolean = sizeBytes.isEmpty && lineBytes.isEmpty && ways.isEmpty
+  /** The parts given, as [[CacheSpec.parse]] reads them back (`32768/32/full`); empty when none is. */
+  def text: String = Seq(sizeBytes.map(_.toString), lineBytes.map(_.toString), ways.map(w => if (w == CacheSpec.Full) "full" else w.toString)).flatten.mkString("/")
 }
 
 object CacheSpec {
@@ -111,8 +113,7 @@ final case class Tuning(
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
-    def spec(n: String, c: CacheSpec) = if (c.isEmpty) None else
-      Some(s"$n=" + Seq(c.sizeBytes.map(_.toString), c.lineBytes.map(_.toString), c.ways.map(w => if (w == CacheSpec.Full) "full" else w.toString)).flatten.mkString("/"))
+    def spec(n: String, c: CacheSpec) = if (c.isEmpty) None else Some(s"$n=${c.text}")
     registerQueueDepth.map(d => s"rq-depth=$d").toSeq ++ rsEntries.map(r => s"rs-entries=$r") ++
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
       memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate"))

@@ -9,15 +9,15 @@ import scala.jdk.CollectionConverters._
 
 /** The emitted SystemVerilog of a whole MAPM, cached per configuration in the [[BuildCache]]
   * (kind `emit`); the key covers the parameters, the hardware sources (everything under
-  * src/main/scala/mapm except the model, CLI and simulation code) and the Chisel and firtool
+  * src/main/scala/mapm except the renderer and the host-side code) and the Chisel and firtool
   * versions, so a changed generator re-emits. Beside the Verilog it writes `mapm_config.h` ([[HarnessHeader]]). */
 object MapmRtl {
   def topName(p: MapmParams): String = s"Mapm_${p.name}"
 
-  /** A hash of the hardware generator sources (everything under src/main/scala/mapm but the model, CLI and simulation code). */
+  /** A hash of the hardware generator sources (everything under src/main/scala/mapm but the renderer, the command line, the simulation code and the host-side pipelines, cost orchestration and evaluation). */
   def hardwareSourceHash: String = {
     val src = Harness.root.resolve("src/main/scala/mapm")
-    val skip = Set("model", "cli", "sim").map(src.resolve)
+    val skip = Set("model", "cli", "sim", "pipeline", "costflow", "evaluation").map(src.resolve)
     val files = Files.walk(src).iterator.asScala
       .filter(f => Files.isRegularFile(f) && f.toString.endsWith(".scala") && !skip.exists(f.startsWith)).toSeq.sortBy(_.toString)
     Verilator.hash(files.map(f => src.relativize(f).toString + new String(Files.readAllBytes(f), UTF_8)): _*)

@@ -40,4 +40,24 @@ class RtlOptionsSpec extends AnyFunSuite {
     assert(mapm.evaluation.RunArchive.key("c1", scene, base.archiveText(scene), (2, 1, 2)) != k)
     assert(mapm.evaluation.RunArchive.key(code, "test-scenes/cornell-box/scene.json", base.archiveText("test-scenes/cornell-box/scene.json"), (2, 1, 2)) != k)
   }
+
+  test("toArgs gives back the options it was made from (the arguments a Slurm task reruns with), over 200 seeded draws") {
+    import mapm.params.{CacheSpec, Fidelity}
+    val rnd = new scala.util.Random(11)
+    def pick[T](xs: T*): T = xs(rnd.nextInt(xs.size))
+    def maybe[T](x: => T): Option[T] = if (rnd.nextBoolean()) Some(x) else None
+    def spec = pick(CacheSpec(Some(8192)), CacheSpec(Some(32768), Some(64)), CacheSpec(Some(65536), Some(32), Some(4)),
+      CacheSpec(Some(524288), Some(64), Some(CacheSpec.Full)))
+    for (_ <- 0 until 200) {
+      val hw = HwOptions(maybe(rnd.nextInt(512) + 1), maybe(8 * (rnd.nextInt(4) + 1)), maybe(spec), maybe(spec), maybe(spec), maybe(spec),
+        maybe(spec), maybe(rnd.nextInt(64) + 1), mainargs.Flag(rnd.nextBoolean()))
+      val o = RtlOptions(scene = pick("test-scenes/cornell-box/scene.json", "a b/c.json"), format = maybe(pick(FloatFormat.fp16, FloatFormat(5, 4), FloatFormat.fp64)),
+        layout = pick(mapm.format.SlotLayout.Packed, mapm.format.SlotLayout.Wide), g = rnd.nextInt(5), arith = pick(mapm.numerics.Arith.Online, mapm.numerics.Arith.Conventional),
+        fidelity = maybe(pick(Fidelity.Full, Fidelity.Timing)), latency = rnd.nextInt(300), latencyMax = rnd.nextInt(400),
+        queryGap = pick(0.0, 0.1, 1.0 / 3), reqStall = rnd.nextDouble(), respGap = pick(0.0, 0.25), tailProb = pick(0.0, 0.01),
+        tailLatency = rnd.nextInt(5000), bandwidth = pick(14.0, 3.5, 1e-3), clockGhz = pick(1.5, 0.319), seed = rnd.nextLong() & Long.MaxValue,
+        simThreads = rnd.nextInt(4) + 1, maxCycles = rnd.nextInt(1000000).toLong, out = pick("out", "x/y"), threads = rnd.nextInt(8) + 1, hw = hw)
+      assert(parse(Args.toArgs(o): _*) == o, Args.toArgs(o).mkString(" "))
+    }
+  }
 }
