@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.util._
 import mapm.params.{MapmParams, SoGroup}
-import mapm.util.Pick
+import mapm.util.{Counters, Index, RoundRobin, Rotate}
 
 /** The Data bus (3.2): hands the TSMs' SO groups to SOMs with room for them.
   *
@@ -29,10 +29,10 @@ class DataBus(p: MapmParams) extends Module {
     val out = Output(Vec(s, Valid(new SoGroup(p))))
   })
 
-  val startT = RegInit(0.U(Pick.bits(t).W))
-  val startS = RegInit(0.U(Pick.bits(s).W))
-  startT := Pick.next(startT, t)
-  startS := Pick.next(startS, s)
+  val startT = RegInit(0.U(Index.bits(t).W))
+  val startS = RegInit(0.U(Index.bits(s).W))
+  startT := Index.next(startT, t)
+  startS := Index.next(startS, s)
 
   // fits(i): the SOMs group i fits, as an s-bit mask.
   private val fits = VecInit(io.in.map { g =>
@@ -41,16 +41,16 @@ class DataBus(p: MapmParams) extends Module {
   })
   // Claims in rotated TSM order; claim(k) is the SOM (one-hot) taken by the k-th group in that order,
   // the group of TSM (startT + k) mod t.
-  private val fitsInOrder = Pick.rotate(fits, startT)
-  private val afterS = Pick.atOrAfter(startS, s)
+  private val fitsInOrder = Rotate(fits, startT)
+  private val afterS = RoundRobin.atOrAfter(startS, s)
   private var avail = ((BigInt(1) << s) - 1).U(s.W)
   private val claims = fitsInOrder.zipWithIndex.map { case (f, k) =>
-    val oh = Pick.roundRobinOH(f & avail, afterS)
+    val oh = RoundRobin.firstOneHot(f & avail, afterS)
     if (k < t - 1) avail = avail & ~oh
     oh
   }
   // Back to TSM order: group i is the k-th with k = (i - startT) mod t.
-  private val grant = Pick.rotate(claims, startT, back = true)
+  private val grant = Rotate(claims, startT, back = true)
   for (i <- 0 until t) io.in(i).ready := grant(i).orR
   private val flat = io.in.map(_.bits.asUInt) // each group's bits once, shared by every SOM's select
   for (j <- 0 until s) {

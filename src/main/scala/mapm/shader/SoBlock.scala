@@ -5,7 +5,7 @@ import chisel3.experimental.hierarchy.{Definition, Instance}
 import chisel3.util._
 import mapm.memory.{CacheConfig, MemArbiter, MemPort, ReadOnlyCache}
 import mapm.params.{MapmConfig, MapmParams, SoGroup, SoResult}
-import mapm.util.Pick
+import mapm.util.{Counters, Index, RoundRobin, Rotate}
 
 /** Counters of the SO block (64 bits each; docs/mapm.md). */
 class SoCounters extends Bundle {
@@ -65,11 +65,11 @@ class SoBlock(p: MapmParams) extends Module {
   io.idle := soms.map(_.io.idle).reduce(_ && _)
   io.error := l2.io.protocolError || arb.io.protocolError || soms.map(_.io.error).reduce(_ || _)
 
-  import Pick.counter
+  import Counters.{count => counter}
   io.counters.soIssued := counter(soms.flatMap(_.io.issued))
   io.counters.soPassed := counter(io.out.map(o => o.valid && o.bits.cond))
-  io.counters.sopL1Hits := Pick.sum(soms.flatMap(_.io.l1.map(_.hits)))
-  io.counters.sopL1Misses := Pick.sum(soms.flatMap(_.io.l1.map(_.misses)))
+  io.counters.sopL1Hits := Counters.sum(soms.flatMap(_.io.l1.map(_.hits)))
+  io.counters.sopL1Misses := Counters.sum(soms.flatMap(_.io.l1.map(_.misses)))
   io.counters.sopL2Hits := l2.io.counters.hits
   io.counters.sopL2Misses := l2.io.counters.misses
 }

@@ -6,7 +6,7 @@ import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{Fidelity, MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
-import mapm.util.{ClockGate, Pick}
+import mapm.util.{ClockGate, Counters, Index, RoundRobin, Rotate}
 
 /** One shader operation waiting in a reservation station: its query and the photon's node index. */
 class SoOp(p: MapmParams) extends Bundle {
@@ -77,13 +77,13 @@ class SomLane(p: MapmParams) extends Module {
   }
 
   // Photon-record requests, round-robin over the entries still to ask.
-  val rrNext = RegInit(0.U(Pick.bits(n).W))
-  private val (want, pick) = Pick.roundRobin(valid.asUInt & ~sent.asUInt, rrNext)
+  val rrNext = RegInit(0.U(Index.bits(n).W))
+  private val (want, pick) = RoundRobin.first(valid.asUInt & ~sent.asUInt, rrNext)
   l1.io.up.req.valid := want
   l1.io.up.req.bits.addr := io.photonBase + (ops(pick).photon << Records.indexShift(records.photon))
   l1.io.up.req.bits.id := pick
   l1.io.up.req.bits.len := 0.U
-  when(l1.io.up.req.fire) { sent(pick) := true.B; rrNext := Pick.next(pick, n) }
+  when(l1.io.up.req.fire) { sent(pick) := true.B; rrNext := Index.next(pick, n) }
 
   // A record arrives: the SO issues.
   l1.io.up.resp.ready := true.B
@@ -140,7 +140,7 @@ object SomLane {
     val a = p.counts.soaPerSom
     val record = p.records.photon.bytes
     val interleave = if (isPow2(a) && g.lineBytes == record) a else 1
-    CacheConfig(g, wordBytes = record, idBits = Pick.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes,
+    CacheConfig(g, wordBytes = record, idBits = Index.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes,
       interleave = interleave)
   }
 }

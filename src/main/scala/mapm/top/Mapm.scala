@@ -6,7 +6,7 @@ import mapm.params._
 import mapm.memory.{MemArbiter, MemPort, MemPortParams}
 import mapm.shader.SoBlock
 import mapm.tsearch.{QueryFetch, TsBlock}
-import mapm.util.Pick
+import mapm.util.{Counters, Index, RoundRobin, Rotate}
 
 /** The whole Multi-Accelerator for Photon Mapping (3.2, docs/mapm.md): the Tree Search block
   * ([[TsBlock]]: query stream, SOQ cache, Launcher, TSMs with TS L1s, TSAs, Nextnode and the
@@ -65,8 +65,8 @@ class Mapm(val p: MapmParams) extends Module {
   val c = io.counters
   private val tc = ts.io.counters
   private val sc = so.io.counters
-  c.cycles := Pick.counter(Seq(true.B))
-  c.queries := Pick.counter(Seq(io.query.fire))
+  c.cycles := Counters.count(Seq(true.B))
+  c.queries := Counters.count(Seq(io.query.fire))
   c.tsOps := tc.tsOps
   c.soIssued := sc.soIssued
   c.soPassed := sc.soPassed
@@ -84,7 +84,7 @@ class Mapm(val p: MapmParams) extends Module {
   c.sopL1_misses := sc.sopL1Misses
   c.sopL2_hits := sc.sopL2Hits
   c.sopL2_misses := sc.sopL2Misses
-  c.bytesFetched := (Pick.counter(Seq(io.mem.resp.fire)) << log2Ceil(p.memory.dataBytes))(63, 0)
+  c.bytesFetched := (Counters.count(Seq(io.mem.resp.fire)) << log2Ceil(p.memory.dataBytes))(63, 0)
   c.rqPeak := tc.rqPeak
 }
 

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{MapmParams, QueryData, QueryHwRecord, QueryIn, Records, Rgb}
-import mapm.util.Pick
+import mapm.util.{Counters, Index, RoundRobin, Rotate}
 
 /** The front of the TS block: takes the host's tree-search instructions (query position and
   * index, 3.2) and reads each query's contribution (r, g, b), the first
@@ -78,11 +78,11 @@ class QueryFetch(p: MapmParams) extends Module {
   when(soq.io.up.resp.fire && (padding.map(_.orR) :+ restBad).reduce(_ || _)) { malformed := true.B }
   // Arrived queries leave round-robin from the slot after the last one out (records come back in
   // any order; a late one does not hold back the others).
-  val rrNext = RegInit(0.U(Pick.bits(n).W))
-  private val (any, head) = Pick.roundRobin(valid.asUInt & arrived.asUInt, rrNext)
+  val rrNext = RegInit(0.U(Index.bits(n).W))
+  private val (any, head) = RoundRobin.first(valid.asUInt & arrived.asUInt, rrNext)
   io.out.valid := any
   io.out.bits := held(head)
-  when(io.out.fire) { valid(head) := false.B; rrNext := Pick.next(head, n) }
+  when(io.out.fire) { valid(head) := false.B; rrNext := Index.next(head, n) }
 
   io.error := soq.io.protocolError || malformed
   io.idle := !valid.asUInt.orR
@@ -96,7 +96,7 @@ object QueryFetch {
     * memory latency, 4 MSHRs would hold the stream to 0.04 queries per cycle. */
   def soqConfig(p: MapmParams): CacheConfig = {
     val n = p.queues.queryFetches
-    CacheConfig(p.caches.soq, wordBytes = p.records.queryHwBytes, idBits = Pick.bits(n), addressBits = p.memory.addressBits,
+    CacheConfig(p.caches.soq, wordBytes = p.records.queryHwBytes, idBits = Index.bits(n), addressBits = p.memory.addressBits,
       downBytes = p.memory.dataBytes, mshrs = n min 64, targets = n min 64)
   }
 }

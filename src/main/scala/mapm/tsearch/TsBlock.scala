@@ -5,7 +5,7 @@ import chisel3.experimental.hierarchy.{Definition, Instance}
 import chisel3.util._
 import mapm.memory.{CacheConfig, MemArbiter, MemPort, ReadOnlyCache}
 import mapm.params.{MapmConfig, MapmParams, QueryIn, SoGroup}
-import mapm.util.Pick
+import mapm.util.{Counters, Index, RoundRobin, Rotate}
 
 /** Counters of the TS block (64 bits each; docs/mapm.md). */
 class TsCounters extends Bundle {
@@ -74,9 +74,9 @@ class TsBlock(p: MapmParams) extends Module {
   io.tsMem <> l2.io.down
 
   // Launcher: the next query to the first willing TSM after the last one served.
-  val last = RegInit((t - 1).U(Pick.bits(t).W))
+  val last = RegInit((t - 1).U(Index.bits(t).W))
   private val willing = VecInit(tsms.map(_.io.query.ready)).asUInt
-  private val (anyWilling, chosen) = Pick.roundRobin(willing, Pick.next(last, t))
+  private val (anyWilling, chosen) = RoundRobin.first(willing, Index.next(last, t))
   private val offered = fetch.io.out.valid && !emptyTree
   for ((m, i) <- tsms.zipWithIndex) {
     m.io.cfg.h := io.cfg.h
@@ -96,14 +96,14 @@ class TsBlock(p: MapmParams) extends Module {
   io.error := fetch.io.error || l2.io.protocolError || arb.io.protocolError || tsms.map(_.io.error).reduce(_ || _)
 
   // Counters.
-  import Pick.counter
+  import Counters.{count => counter}
   io.counters.tsOps := counter(tsms.map(_.io.events.tsOp))
   io.counters.stallNodeData := counter(tsms.map(_.io.events.stallNodeData))
   io.counters.stallRsFull := counter(tsms.map(_.io.events.stallRsFull))
   io.counters.stallRqFull := counter(tsms.map(_.io.events.stallRqFull))
   io.counters.stallQuery := counter(Seq(fetch.io.waiting && !fetch.io.out.valid && anyWilling))
-  io.counters.tsL1Hits := Pick.sum(tsms.map(_.io.l1.hits))
-  io.counters.tsL1Misses := Pick.sum(tsms.map(_.io.l1.misses))
+  io.counters.tsL1Hits := Counters.sum(tsms.map(_.io.l1.hits))
+  io.counters.tsL1Misses := Counters.sum(tsms.map(_.io.l1.misses))
   io.counters.tsL2Hits := l2.io.counters.hits
   io.counters.tsL2Misses := l2.io.counters.misses
   io.counters.soqHits := fetch.io.soq.hits

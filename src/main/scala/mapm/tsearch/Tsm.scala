@@ -6,17 +6,17 @@ import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{MapmParams, NodeRecord, QueryData, Records, SoGroup}
-import mapm.util.Pick
+import mapm.util.{Counters, Index, RoundRobin, Rotate}
 
 /** A pending search inside one TSM: the query's slot in the TSM's query table and the node. */
 class TsmOp(p: MapmParams) extends Bundle {
-  val qid = UInt(Pick.bits(p.queues.tsmQueries).W)
+  val qid = UInt(Index.bits(p.queues.tsmQueries).W)
   val node = UInt(p.indices.nodeBits.W)
 }
 
 /** What Nextnode needs of an operation besides TC_L and TC_R; it travels through the TSA as its tag. */
 class NextnodeInfo(p: MapmParams) extends Bundle {
-  val qid = UInt(Pick.bits(p.queues.tsmQueries).W)
+  val qid = UInt(Index.bits(p.queues.tsmQueries).W)
   val node = UInt(p.indices.nodeBits.W)
   val hasL = Bool()
   val hasR = Bool()
@@ -158,10 +158,10 @@ class Tsm(p: MapmParams) extends Module {
   private val en = !outValid || io.so.ready
   tsa.io.en.get := en
   private val readyMask = (slotValid.asUInt & slotReady.asUInt)
-  val rrNext = RegInit(0.U(Pick.bits(ns).W))
-  private val (anyReady, pick) = Pick.roundRobin(readyMask, rrNext)
+  val rrNext = RegInit(0.U(Index.bits(ns).W))
+  private val (anyReady, pick) = RoundRobin.first(readyMask, rrNext)
   private val issue = en && anyReady
-  when(issue) { slotValid(pick) := false.B; rrNext := Pick.next(pick, ns) }
+  when(issue) { slotValid(pick) := false.B; rrNext := Index.next(pick, ns) }
   private val rec = slotRec(pick).asTypeOf(new NodeRecord(records.slot, w))
   private val iop = slotOp(pick)
   private val word = rec.word
@@ -227,6 +227,6 @@ object Tsm {
   /** The TS L1 of one TSM: Table 4.2's geometry, one node record per read, one id per fetch slot,
     * whole lines to the TS L2. */
   def l1Config(p: MapmParams): CacheConfig =
-    CacheConfig(p.caches.tsL1, wordBytes = p.records.node.bytes, idBits = Pick.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
+    CacheConfig(p.caches.tsL1, wordBytes = p.records.node.bytes, idBits = Index.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
       downBytes = p.caches.tsL1.lineBytes)
 }
