@@ -75,14 +75,53 @@ object SceneConfig {
 
   /** Reads and validates a scene file and everything it names. */
   def load(path: Path): SceneConfig = {
+    val r = new JsonReader(path)
+    val top = r.obj(readJson(path), "", topKeys)
+
+    val objRel = r.str(top.getOrElse("obj", r.missing("obj")), "obj")
+    val objFile = Option(path.toAbsolutePath.getParent).fold(Path.of(objRel))(_.resolve(objRel)).normalize()
+    if (!Files.isRegularFile(objFile)) r.fail("obj", s"OBJ file $objFile not found" +
+      (if (objRel.contains("shared/")) " (a shared model, read in place and never copied into the project: is ../shared beside the checkout?)" else ""))
+
+    val camera = readCamera(r, top)
+    val width = top.get("width").fold(Defaults.width)(v => r.int(v, "width", 1))
+    val height = top.get("height").fold(Defaults.height)(v => r.int(v, "height", 1))
+    val fgr = top.get("finalGatherRays").fold(Defaults.finalGatherRays)(v => r.int(v, "finalGatherRays", 1))
+    if (width.toLong * height * fgr > Int.MaxValue)
+      r.fail("finalGatherRays", s"width * height * finalGatherRays = ${width.toLong * height * fgr} query points is too many")
+    val photons = top.get("photons").fold(Defaults.photons)(v => r.int(v, "photons", 0))
+    if (photons > NodeWord.MaxNodes) r.fail("photons", s"must be at most ${NodeWord.MaxNodes} (the node record's index field), got $photons")
+    val maxBounces = top.get("maxBounces").fold(Defaults.maxBounces)(v => r.int(v, "maxBounces", 1))
+    val h = readKernelRadius(r, top)
+    val seed = top.get("seed").fold(Defaults.seed)(v => r.long(v, "seed"))
+    val format = top.get("format").map { v =>
+      val s = r.str(v, "format")
+      try FloatFormat.parse(s) catch { case e: MapmError => r.fail("format", e.getMessage) }
+    }
+    val defaultKd = top.get("defaultKd").fold(Defaults.defaultKd)(v => r.reflectance(v, "defaultKd"))
+    val directSamples = top.get("directLightSamples").fold(Defaults.directLightSamples)(v => r.int(v, "directLightSamples", 0))
+    top.get("comment").foreach(v => r.str(v, "comment"))
+    val (pointLights, areaPolys) = readLights(r, top)
+
+    val full = withAreaLights(ObjLoader.load(objFile, defaultKd), areaPolys)
+
+    // Positive octant: the tree-search hardware assumes coordinates >= 0.
+    val lo = full.bounds.lo
+    val shift = Vec3(math.max(0, -lo.x), math.max(0, -lo.y), math.max(0, -lo.z))
+    SceneConfig(path, objFile, full.translate(shift), camera.translate(shift), pointLights.map(_.translate(shift)).toSeq,
+      width, height, fgr, photons, maxBounces, h, seed, format, directSamples, shift)
+  }
+
+
+  /** The scene file's JSON; a [[MapmError]] naming the file (and the line) when it cannot be read or parsed. */
+  private def readJson(path: Path): ujson.Value = {
     val text =
       try new String(Files.readAllBytes(path), StandardCharsets.UTF_8)
       catch {
         case _: java.nio.file.NoSuchFileException => MapmError.fail(s"$path: scene file not found")
         case e: IOException                       => MapmError.fail(s"$path: cannot read (${e.getMessage})")
       }
-    val json =
-      try ujson.read(text)
+    try ujson.read(text)
       catch {
         case e: ujson.ParseException =>
           val line = text.take(math.max(0, e.index)).count(_ == '\n') + 1
@@ -90,14 +129,10 @@ object SceneConfig {
         case _: ujson.IncompleteParseException => MapmError.fail(s"$path: invalid JSON (the text ends early)")
         case e: Exception => MapmError.fail(s"$path: invalid JSON (${e.getMessage})")
       }
-    val r = new JsonReader(path)
-    val top = r.obj(json, "", topKeys)
+  }
 
-    val objRel = r.str(top.getOrElse("obj", r.missing("obj")), "obj")
-    val objFile = Option(path.toAbsolutePath.getParent).fold(Path.of(objRel))(_.resolve(objRel)).normalize()
-    if (!Files.isRegularFile(objFile)) r.fail("obj", s"OBJ file $objFile not found" +
-      (if (objRel.contains("shared/")) " (a shared model, read in place and never copied into the project: is ../shared beside the checkout?)" else ""))
-
+  /** The `camera` block: position, a view direction (from `lookAt` or `direction`), up and field of view. */
+  private def readCamera(r: JsonReader, top: collection.Map[String, ujson.Value]): Camera = {
     val cam = r.obj(top.getOrElse("camera", r.missing("camera")), "camera", Set("position", "lookAt", "direction", "up", "fov"))
     val position = r.vec(cam.getOrElse("position", r.missing("camera.position")), "camera.position")
     val direction = (cam.get("lookAt"), cam.get("direction")) match {
@@ -116,17 +151,13 @@ object SceneConfig {
     if (direction.cross(up).length <= 1e-9 * up.length) r.fail("camera.up", s"is zero or parallel to the view direction")
     val fov = cam.get("fov").fold(Defaults.fovDeg)(v => r.num(v, "camera.fov"))
     if (!(fov > 0 && fov < 180)) r.fail("camera.fov", s"must be in (0, 180) degrees, got $fov")
-    val camera = Camera(position, direction, up.normalized, fov)
+    Camera(position, direction, up.normalized, fov)
 
-    val width = top.get("width").fold(Defaults.width)(v => r.int(v, "width", 1))
-    val height = top.get("height").fold(Defaults.height)(v => r.int(v, "height", 1))
-    val fgr = top.get("finalGatherRays").fold(Defaults.finalGatherRays)(v => r.int(v, "finalGatherRays", 1))
-    if (width.toLong * height * fgr > Int.MaxValue)
-      r.fail("finalGatherRays", s"width * height * finalGatherRays = ${width.toLong * height * fgr} query points is too many")
-    val photons = top.get("photons").fold(Defaults.photons)(v => r.int(v, "photons", 0))
-    if (photons > NodeWord.MaxNodes) r.fail("photons", s"must be at most ${NodeWord.MaxNodes} (the node record's index field), got $photons")
-    val maxBounces = top.get("maxBounces").fold(Defaults.maxBounces)(v => r.int(v, "maxBounces", 1))
-    val h = top.get("h").fold(Defaults.h) {
+  }
+
+  /** `h`: a fixed kernel radius, or `{"auto": photonsPerQuery}`. */
+  private def readKernelRadius(r: JsonReader, top: collection.Map[String, ujson.Value]): KernelRadius =
+    top.get("h").fold(Defaults.h) {
       case ujson.Num(_) =>
         val x = r.num(top("h"), "h")
         if (!(x > 0)) r.fail("h", s"must be > 0, got $x")
@@ -138,16 +169,9 @@ object SceneConfig {
         KernelRadius.Auto(t)
       case other => r.fail("h", s"must be a number or {\"auto\": photonsPerQuery}, got ${r.kind(other)}")
     }
-    val seed = top.get("seed").fold(Defaults.seed)(v => r.long(v, "seed"))
-    val format = top.get("format").map { v =>
-      val s = r.str(v, "format")
-      try FloatFormat.parse(s) catch { case e: MapmError => r.fail("format", e.getMessage) }
-    }
-    val defaultKd = top.get("defaultKd").fold(Defaults.defaultKd)(v => r.reflectance(v, "defaultKd"))
-    val directSamples = top.get("directLightSamples").fold(Defaults.directLightSamples)(v => r.int(v, "directLightSamples", 0))
-    top.get("comment").foreach(v => r.str(v, "comment"))
 
-    // Lights: point lights as they are, area-light polygons as emissive triangles joining the geometry.
+  /** The `lights`: point lights as they are, and area-light polygons (vertices, radiance, kd) to join the geometry. */
+  private def readLights(r: JsonReader, top: collection.Map[String, ujson.Value]): (Seq[PointLight], Seq[(Seq[Vec3], Vec3, Vec3)]) = {
     val pointLights = mutable.ArrayBuffer.empty[PointLight]
     val areaPolys = mutable.ArrayBuffer.empty[(Seq[Vec3], Vec3, Vec3)] // vertices, radiance, kd
     top.get("lights").foreach { lv =>
@@ -186,19 +210,17 @@ object SceneConfig {
       }
     }
 
-    val objScene = ObjLoader.load(objFile, defaultKd)
-    val lightMaterials = areaPolys.zipWithIndex.map { case ((_, ke, kd), i) => Material(s"area-light-$i", kd, ke) }
-    val lightTris = areaPolys.zipWithIndex.flatMap { case ((vs, _, _), i) =>
-      val mat = objScene.materials.size + i
+    (pointLights.toSeq, areaPolys.toSeq)
+  }
+
+  /** `scene` with each area-light polygon (vertices, radiance, kd) added as emissive triangles of a material of its own. */
+  private def withAreaLights(scene: Scene, polys: Seq[(Seq[Vec3], Vec3, Vec3)]): Scene = {
+    val lightMaterials = polys.zipWithIndex.map { case ((_, ke, kd), i) => Material(s"area-light-$i", kd, ke) }
+    val lightTris = polys.zipWithIndex.flatMap { case ((vs, _, _), i) =>
+      val mat = scene.materials.size + i
       vs.indices.drop(1).dropRight(1).map(k => Triangle(vs(0), vs(k), vs(k + 1), mat))
     }
-    val full = Scene(objScene.triangles ++ lightTris, objScene.materials ++ lightMaterials)
-
-    // Positive octant: the tree-search hardware assumes coordinates >= 0.
-    val lo = full.bounds.lo
-    val shift = Vec3(math.max(0, -lo.x), math.max(0, -lo.y), math.max(0, -lo.z))
-    SceneConfig(path, objFile, full.translate(shift), camera.translate(shift), pointLights.map(_.translate(shift)).toSeq,
-      width, height, fgr, photons, maxBounces, h, seed, format, directSamples, shift)
+    Scene(scene.triangles ++ lightTris, scene.materials ++ lightMaterials)
   }
 
   /** Typed access to JSON values with errors that name the scene file and the key. */
