@@ -36,36 +36,48 @@ object PhotonTracer {
     MapmError.check(photons >= 0, s"photon count must be >= 0, got $photons")
     MapmError.check(maxBounces >= 1, s"maxBounces must be >= 1, got $maxBounces")
     if (photons == 0) return Result(Array.empty, 0)
-    val scene = tree.scene
-    val areaPower = scene.emitters.map { i =>
+    val paths = new Paths(tree, new Lights(tree.scene, pointLights), maxBounces, seed)
+    val (stored, emitted) = collect(photons, threads, progress)(paths.photons)
+    val scale = 1.0 / emitted
+    Result(stored.iterator.map(p => p.copy(power = p.power * scale)).toArray, emitted)
+  }
+
+  /** The lights a path may start from: the point lights, then the scene's emitters, each picked with
+    * probability proportional to its power (the sum of its RGB channels). */
+  private final class Lights(scene: Scene, pointLights: Seq[PointLight]) {
+    val areaPower: IndexedSeq[Vec3] = scene.emitters.map { i =>
       val t = scene.triangles(i); scene.materials(t.material).ke * (math.Pi * t.area)
-    }
-    val weights = pointLights.map(l => l.power.x + l.power.y + l.power.z) ++ areaPower.map(p => p.x + p.y + p.z)
+    }.toIndexedSeq
+    val weights: Seq[Double] = pointLights.map(l => l.power.x + l.power.y + l.power.z) ++ areaPower.map(p => p.x + p.y + p.z)
     MapmError.check(weights.sum > 0, "the scene has no light: give a point light or an emissive material (Ke)")
-    val cdf = Sampling.cumulative(weights)
-    val total = cdf.last
-    val nPoint = pointLights.size
+    val cdf: Array[Double] = Sampling.cumulative(weights)
+    val nPoint: Int = pointLights.size
+    def point(i: Int): PointLight = pointLights(i)
+  }
 
-    val queries = new ThreadLocal[TriKdTree.Query] { override def initialValue() = tree.query() }
+  /** Photon paths through `tree`'s scene from `lights`, path k drawing from its own random stream (seed, k). */
+  private final class Paths(tree: TriKdTree, lights: Lights, maxBounces: Int, seed: Long) {
+    private val scene = tree.scene
+    private val queries = new ThreadLocal[TriKdTree.Query] { override def initialValue() = tree.query() }
 
-    /** Photons of path k with their un-normalised power. */
-    def path(k: Long): Array[Photon] = {
+    /** The photons of path k with their un-normalised power. */
+    def photons(k: Long): Array[Photon] = {
       val q = queries.get
       val rnd = Sampling.rng(seed, Sampling.PhotonStream, k)
-      val li = Sampling.pick(cdf, rnd)
-      val prob = weights(li) / total
+      val li = Sampling.pick(lights.cdf, rnd)
+      val prob = lights.weights(li) / lights.cdf.last
       var o: Vec3 = null
       var d: Vec3 = null
       var power: Vec3 = null
-      if (li < nPoint) {
-        val l = pointLights(li)
+      if (li < lights.nPoint) {
+        val l = lights.point(li)
         o = l.position; d = Sampling.uniformSphere(rnd); power = l.power / prob
       } else {
-        val ti = scene.emitters(li - nPoint)
+        val ti = scene.emitters(li - lights.nPoint)
         val n = tree.normals(ti)
         o = Sampling.pointOnTriangle(scene.triangles(ti), rnd) + n * scene.rayOffset
         d = Sampling.cosineHemisphere(n, rnd)
-        power = areaPower(li - nPoint) / prob
+        power = lights.areaPower(li - lights.nPoint) / prob
       }
       val out = Array.newBuilder[Photon]
       var bounce = 0
@@ -87,7 +99,11 @@ object PhotonTracer {
       }
       out.result()
     }
+  }
 
+  /** Traces paths 0, 1, ... with `path` in batches on `threads` threads until `photons` photons are
+    * stored (the last path cut off there): the photons, in path order, and the paths that made them. */
+  private def collect(photons: Int, threads: Int, progress: Option[String])(path: Long => Array[Photon]): (Array[Photon], Long) = {
     val stored = mutable.ArrayBuffer.empty[Photon]
     stored.sizeHint(photons)
     val maxPaths = math.max(1000000L, 100L * photons)
@@ -113,7 +129,6 @@ object PhotonTracer {
       }
       next += batch
     } finally bar.foreach(_.finish())
-    val scale = 1.0 / emitted
-    Result(stored.iterator.map(p => p.copy(power = p.power * scale)).toArray, emitted)
+    (stored.toArray, emitted)
   }
 }
