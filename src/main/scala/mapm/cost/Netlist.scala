@@ -138,10 +138,22 @@ object Netlist {
     * The netlist must be flat and mapped: every cell connection one bit.
     */
   def parse(text: String, source: String, top: Option[String] = None): Netlist = {
-    def bad(what: String): Nothing = MapmError.fail(s"$source: not a yosys netlist: $what")
     val json =
       try ujson.read(text)
       catch { case e: ujson.ParsingFailedException => MapmError.fail(s"$source: not JSON: ${e.getMessage}") }
+    val r = new YosysReader(source)
+    val (name, module) = r.topModule(json, top)
+    val m = r.obj(module, s"module $name")
+    val ports = r.ports(m, name)
+    val cells = r.cells(m, name)
+    val names = r.netNames(m, name)
+    Netlist(name, groupSplitPorts(ports), cells, names, r.netCount)
+  }
+
+  /** Reading one yosys JSON netlist of `source`: typed access with one-line errors, and the nets
+    * numbered densely from 2 as they are met (0 and 1 are the constants). */
+  private final class YosysReader(source: String) {
+    def bad(what: String): Nothing = MapmError.fail(s"$source: not a yosys netlist: $what")
     def obj(v: ujson.Value, what: String): mutable.Map[String, ujson.Value] =
       v.objOpt.getOrElse(bad(s"$what is not an object"))
     def field(o: mutable.Map[String, ujson.Value], key: String, what: String): ujson.Value =
@@ -154,20 +166,22 @@ object Netlist {
     def int(o: mutable.Map[String, ujson.Value], key: String): Int =
       o.get(key).flatMap(_.numOpt).fold(0)(_.toInt)
 
-    val modules = obj(field(obj(json, "the file"), "modules", "the file"), "modules")
-    def attributes(m: ujson.Value): mutable.Map[String, ujson.Value] =
-      m.objOpt.flatMap(_.get("attributes")).flatMap(_.objOpt).getOrElse(mutable.Map.empty[String, ujson.Value])
-    val designs = modules.filterNot { case (_, m) => flag(attributes(m), "blackbox") }
-    val (name, module) = top match {
-      case Some(t) => t -> modules.getOrElse(t, MapmError.fail(s"$source: no module $t (modules: ${modules.keys.mkString(", ")})"))
-      case None =>
-        designs.filter { case (_, m) => flag(attributes(m), "top") }.toSeq match {
-          case Seq(one) => one
-          case _ if designs.size == 1 => designs.head
-          case _ => MapmError.fail(s"$source: ${designs.size} modules (${designs.keys.mkString(", ")}); name the top one")
-        }
+    /** The module named `top`, else the one marked top, else the only non-black-box one. */
+    def topModule(json: ujson.Value, top: Option[String]): (String, ujson.Value) = {
+      val modules = obj(field(obj(json, "the file"), "modules", "the file"), "modules")
+      def attributes(m: ujson.Value): mutable.Map[String, ujson.Value] =
+        m.objOpt.flatMap(_.get("attributes")).flatMap(_.objOpt).getOrElse(mutable.Map.empty[String, ujson.Value])
+      val designs = modules.filterNot { case (_, m) => flag(attributes(m), "blackbox") }
+      top match {
+        case Some(t) => t -> modules.getOrElse(t, MapmError.fail(s"$source: no module $t (modules: ${modules.keys.mkString(", ")})"))
+        case None =>
+          designs.filter { case (_, m) => flag(attributes(m), "top") }.toSeq match {
+            case Seq(one) => one
+            case _ if designs.size == 1 => designs.head
+            case _ => MapmError.fail(s"$source: ${designs.size} modules (${designs.keys.mkString(", ")}); name the top one")
+          }
+      }
     }
-    val m = obj(module, s"module $name")
 
     val dense = mutable.HashMap.empty[Int, Int]
     def net(bit: ujson.Value, what: String): Int = bit match {
@@ -187,39 +201,46 @@ object Netlist {
       (nets, names)
     }
 
-    val rawPorts = obj(field(m, "ports", s"module $name"), s"ports of $name").toSeq.map { case (p, v) =>
-      val o = obj(v, s"port $p")
-      val direction = field(o, "direction", s"port $p").strOpt match {
-        case Some("input")  => Liberty.Direction.Input
-        case Some("output") => Liberty.Direction.Output
-        case Some("inout")  => Liberty.Direction.Inout
-        case other          => bad(s"bad direction $other of port $p")
-      }
-      val (nets, names) = bits(o, p)
-      Port(p, direction, nets, names)
-    }
+    /** Nets numbered so far, the two constants included. */
+    def netCount: Int = dense.size + 2
 
-    val cells = obj(m.getOrElse("cells", ujson.Obj()), s"cells of $name").toIndexedSeq.map { case (c, v) =>
-      val o = obj(v, s"cell $c")
-      val cellType = field(o, "type", s"cell $c").strOpt.getOrElse(bad(s"type of cell $c is not a string"))
-      val pins = obj(field(o, "connections", s"cell $c"), s"connections of cell $c").toSeq.flatMap { case (pin, conn) =>
-        conn.arrOpt.getOrElse(bad(s"connection $pin of cell $c is not a list")).toSeq match {
-          case Seq()    => None
-          case Seq(bit) => Some(pin -> net(bit, s"cell $c"))
-          case more =>
-            MapmError.fail(s"$source: pin $pin of cell $c ($cellType) connects ${more.size} bits; expected a flat netlist of library cells")
+    /** The ports of module `name` (`m`), one-bit ports not yet grouped. */
+    def ports(m: mutable.Map[String, ujson.Value], name: String): Seq[Port] =
+    obj(field(m, "ports", s"module $name"), s"ports of $name").toSeq.map { case (p, v) =>
+        val o = obj(v, s"port $p")
+        val direction = field(o, "direction", s"port $p").strOpt match {
+          case Some("input")  => Liberty.Direction.Input
+          case Some("output") => Liberty.Direction.Output
+          case Some("inout")  => Liberty.Direction.Inout
+          case other          => bad(s"bad direction $other of port $p")
         }
+        val (nets, names) = bits(o, p)
+        Port(p, direction, nets, names)
       }
-      Instance(c, cellType, pins.toMap)
-    }
 
-    val names = obj(m.getOrElse("netnames", ujson.Obj()), s"netnames of $name").toIndexedSeq.map { case (w, v) =>
-      val o = obj(v, s"netname $w")
-      val (nets, bitNames) = bits(o, w)
-      NetName(w, nets, bitNames, flag(o, "hide_name"))
-    }
+    /** The library-cell instances of module `name`. */
+    def cells(m: mutable.Map[String, ujson.Value], name: String): IndexedSeq[Instance] =
+    obj(m.getOrElse("cells", ujson.Obj()), s"cells of $name").toIndexedSeq.map { case (c, v) =>
+        val o = obj(v, s"cell $c")
+        val cellType = field(o, "type", s"cell $c").strOpt.getOrElse(bad(s"type of cell $c is not a string"))
+        val pins = obj(field(o, "connections", s"cell $c"), s"connections of cell $c").toSeq.flatMap { case (pin, conn) =>
+          conn.arrOpt.getOrElse(bad(s"connection $pin of cell $c is not a list")).toSeq match {
+            case Seq()    => None
+            case Seq(bit) => Some(pin -> net(bit, s"cell $c"))
+            case more =>
+              MapmError.fail(s"$source: pin $pin of cell $c ($cellType) connects ${more.size} bits; expected a flat netlist of library cells")
+          }
+        }
+        Instance(c, cellType, pins.toMap)
+      }
 
-    Netlist(name, groupSplitPorts(rawPorts), cells, names, dense.size + 2)
+    /** The named wires of module `name`, with the names of their bits. */
+    def netNames(m: mutable.Map[String, ujson.Value], name: String): IndexedSeq[NetName] =
+    obj(m.getOrElse("netnames", ujson.Obj()), s"netnames of $name").toIndexedSeq.map { case (w, v) =>
+        val o = obj(v, s"netname $w")
+        val (nets, bitNames) = bits(o, w)
+        NetName(w, nets, bitNames, flag(o, "hide_name"))
+      }
   }
 
   /** Groups one-bit ports named `base[index]` (what `splitnets -ports` leaves) into one port
