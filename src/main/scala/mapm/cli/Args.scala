@@ -110,7 +110,7 @@ object Args {
     parser.main.argSigs0.zip(group.productIterator.toSeq).flatMap { case (sig, value) =>
       val name = "--" + sig.longName(mainargs.Util.kebabCaseNameMapper).getOrElse(sig.shortName.fold("")(_.toString))
       def text(v: Any): String = v match {
-        case c: mapm.params.CacheSpec => c.text
+        case c: mapm.pipeline.CacheSpec => c.text
         case d: Double => java.math.BigDecimal.valueOf(d).stripTrailingZeros.toPlainString
         case x => x.toString
       }
@@ -198,10 +198,10 @@ object Args {
       catch { case e: MapmError => Left(e.getMessage) }
   }
 
-  implicit object CacheSpecReader extends TokensReader.Simple[mapm.params.CacheSpec] {
+  implicit object CacheSpecReader extends TokensReader.Simple[mapm.pipeline.CacheSpec] {
     def shortName = "geometry"
-    def read(strs: Seq[String]): Either[String, mapm.params.CacheSpec] =
-      try Right(mapm.params.CacheSpec.parse(strs.last))
+    def read(strs: Seq[String]): Either[String, mapm.pipeline.CacheSpec] =
+      try Right(mapm.pipeline.CacheSpec.parse(strs.last))
       catch { case e: MapmError => Left(e.getMessage) }
   }
 

@@ -103,7 +103,7 @@ object CostCommand extends Command {
         println(s"wrote ${base.resolve("compare-system.json")} and compare-system.md")
         if (figures.forall(_.passed)) 0 else MapmError.fail("cost: a render failed its checks (see above)")
       case (None, 3) =>
-        val base0 = mapm.params.MapmParams.of(tsm.get, som.get, soa.get, format, g, arith = arith)
+        val base0 = mapm.pipeline.Configure.of(tsm.get, som.get, soa.get, format, g, arith = arith)
         val params = base0.copy(numbers = base0.numbers.copy(fpuStageWeight = fpuWeight))
         val base = Paths.get(out)
         val frame = if (stimulus == "frame") Some(CostFlow.frame(scene, format)) else None

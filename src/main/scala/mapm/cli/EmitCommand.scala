@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline.Configure
+
 import mapm.sim._
 
 import java.nio.charset.StandardCharsets.UTF_8
@@ -36,7 +38,7 @@ object EmitCommand extends Command {
       @arg(doc = "output directory") out: String = "out/mapm",
       hw: HwOptions
   ): Int = {
-    val p = MapmParams.of(tsm, som, soa, format, g, layout, arith, fidelity, hw.tuning)
+    val p = Configure.of(tsm, som, soa, format, g, layout, arith, fidelity, hw.tuning)
     val top = s"Mapm_${p.name}"
     val dir = Paths.get(out)
     val t0 = System.nanoTime()

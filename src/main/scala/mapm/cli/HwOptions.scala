@@ -1,7 +1,7 @@
 package mapm.cli
 
 import mainargs.{arg, main}
-import mapm.params.{CacheSpec, Tuning}
+import mapm.pipeline.{CacheSpec, Tuning}
 import Args.CacheSpecReader
 
 /** The hardware sizes Table 4.2 and the design space vary, shared by `emit`, `render`, `sweep` and

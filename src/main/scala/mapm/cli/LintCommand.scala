@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline.Configure
+
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.numerics.FloatFormat
@@ -22,7 +24,7 @@ object LintCommand extends Command {
   ): Int = {
     val list = configs.map(SweepCommand.parseConfigs).getOrElse(MapmParams.table48Configs)
     MapmError.check(list.nonEmpty, "lint: no configurations given")
-    val params = list.map { case (t, s, a) => MapmParams.of(t, s, a, format, g) }
+    val params = list.map { case (t, s, a) => Configure.of(t, s, a, format, g) }
     val t0 = System.nanoTime()
     val dirty = params.flatMap { p =>
       val t1 = System.nanoTime()

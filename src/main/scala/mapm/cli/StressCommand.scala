@@ -100,7 +100,7 @@ object StressCommand extends Command {
     for (e <- entries) {
       val prep = preps.getOrElseUpdate(e.format,
         RtlRun.prepare(scene, e.format, g, outDir.resolve(s"stress-${e.format.map(_.name).getOrElse("scene-format")}").toString, threads))
-      val p = mapm.params.MapmParams.of(e.tsm, e.som, e.soa, prep.frame.format, g)
+      val p = mapm.pipeline.Configure.of(e.tsm, e.som, e.soa, prep.frame.format, g)
       val cycles = Seq.newBuilder[Long]
       val bar = new mapm.model.Progress(s"stress ${e.label}", seeds.toLong)
       for (seed <- firstSeed until firstSeed + seeds) {

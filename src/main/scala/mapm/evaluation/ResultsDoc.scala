@@ -1,5 +1,7 @@
 package mapm.evaluation
 
+import mapm.pipeline.Configure
+
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
 
@@ -14,7 +16,7 @@ object ResultsDoc {
     * guard digits, arithmetic, memory records, the sizes given (`tuning`; `sizes` says them in
     * words) and the memory model's latency and bandwidth. */
   final case class Settings(format: Option[mapm.numerics.FloatFormat], g: Int, arith: mapm.numerics.Arith, layout: mapm.format.SlotLayout,
-                            tuning: mapm.params.Tuning, sizes: String, latency: Int, bandwidth: Double)
+                            tuning: mapm.pipeline.Tuning, sizes: String, latency: Int, bandwidth: Double)
 
   type Rows = Seq[(Workloads.Workload, Seq[SweepReport.Row])]
 
@@ -66,7 +68,7 @@ object ResultsDoc {
     private val dc = Dissertation.clockGHz
     private val c16 = (16, 16, 2)
     // The 16/16/2 the runs used (format, layout and sizes as given), for record and cache sizes.
-    private val p16 = MapmParams.of(16, 16, 2, settings.format.getOrElse(mapm.numerics.FloatFormat.fp32), settings.g, settings.layout,
+    private val p16 = Configure.of(16, 16, 2, settings.format.getOrElse(mapm.numerics.FloatFormat.fp32), settings.g, settings.layout,
       settings.arith, tuning = settings.tuning)
     private val soqLine = p16.caches.soq.lineBytes
 

@@ -7,7 +7,8 @@ import mapm.format.{MemoryImage, SlotLayout}
 import mapm.model._
 import mapm.numerics._
 import mapm.sim.{ExpectedSo, Harness, MapmRtl}
-import mapm.params.{Fidelity, MapmParams, Tuning}
+import mapm.params.{Fidelity, MapmParams}
+import mapm.pipeline.Tuning
 import scala.concurrent.{Await, Future}
 import scala.concurrent.duration.Duration
 
@@ -88,7 +89,7 @@ object RtlRun {
                 arith: Arith, fidelity: Fidelity, tuning: Tuning): (SceneConfig, FloatFormat, Seq[MapmParams]) = {
     val config = ModelRun.loadScene(scene)
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
-    val params = configs.map { case (t, s, a) => MapmParams.of(t, s, a, fmt, g, layout, arith, fidelity, tuning) }
+    val params = configs.map { case (t, s, a) => Configure.of(t, s, a, fmt, g, layout, arith, fidelity, tuning) }
     checkFits(config, params.headOption.getOrElse(MapmParams.default).indices)
     (config, fmt, params)
   }

@@ -1,5 +1,7 @@
 package mapm.cli
 
+import mapm.pipeline.Configure
+
 import java.nio.file.{Files, Paths}
 
 import mapm.MapmError
@@ -31,7 +33,7 @@ class LimitsSpec extends AnyFunSuite {
   }
 
   test("at the largest counts every memory port's id still fits its 16 bits (the counts' ranges are the real limit)") {
-    val p = MapmParams.of(ModuleCounts.MaxTsm, ModuleCounts.MaxSom, ModuleCounts.MaxSoaPerSom, FloatFormat.fp64, 3)
+    val p = Configure.of(ModuleCounts.MaxTsm, ModuleCounts.MaxSom, ModuleCounts.MaxSoaPerSom, FloatFormat.fp64, 3)
     val top = Mapm.memParams(p) // sizes the TS L2, SOQ and SOP L2 ports and the arbiters above them; throws when an id is too wide
     assert(top.idBits <= 16)
     // Past the TSM range the ids would not fit: the range guards the port, not a guess.

@@ -42,7 +42,8 @@ class RtlOptionsSpec extends AnyFunSuite {
   }
 
   test("toArgs gives back the options it was made from (the arguments a Slurm task reruns with), over 200 seeded draws") {
-    import mapm.params.{CacheSpec, Fidelity}
+    import mapm.params.Fidelity
+import mapm.pipeline.CacheSpec
     val rnd = new scala.util.Random(11)
     def pick[T](xs: T*): T = xs(rnd.nextInt(xs.size))
     def maybe[T](x: => T): Option[T] = if (rnd.nextBoolean()) Some(x) else None

@@ -34,7 +34,7 @@ class ResultsDocSpec extends AnyFunSuite {
     val cost = SweepReport.Cost(unit("soa", 6e6, 0.3, 300), unit("tsa", 0.25e6, 0.6, 2), 0.3, "fmax of the slower unit, the SOA")
     val file = dir.resolve("results.md")
     val files = ResultsDoc.write(file, rows, cost, mapm.params.Fidelity.Timing, quick = true,
-      ResultsDoc.Settings(None, 3, mapm.numerics.Arith.Online, mapm.format.SlotLayout.Packed, mapm.params.Tuning(), "caches and queues as Table 4.2 (the defaults)", 100, 14.0), Seq(RunArchive.Part(1, "2026-12-04T10:00Z", 123.0, 2, 2, 8)))
+      ResultsDoc.Settings(None, 3, mapm.numerics.Arith.Online, mapm.format.SlotLayout.Packed, mapm.pipeline.Tuning(), "caches and queues as Table 4.2 (the defaults)", 100, 14.0), Seq(RunArchive.Part(1, "2026-12-04T10:00Z", 123.0, 2, 2, 8)))
     val md = new String(Files.readAllBytes(file), "UTF-8")
     for (t <- Seq("Table 4.10", "Table 4.8", "Table 4.9", "Table 4.11", "Table 4.13")) assert(md.contains(s"## $t"), t)
     for (w <- ws.tail) assert(md.contains(s"### ${w.title}"))

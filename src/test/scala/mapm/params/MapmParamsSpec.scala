@@ -1,5 +1,7 @@
 package mapm.params
 
+import mapm.pipeline.{Configure, Tuning}
+
 import mapm.numerics.FloatFormat
 import org.scalatest.funsuite.AnyFunSuite
 
@@ -38,7 +40,7 @@ class MapmParamsSpec extends AnyFunSuite {
            (FloatFormat.bf16, Packed) -> (2, 8, 16, 8, 32), (FloatFormat(6, 9), Packed) -> (2, 8, 16, 8, 32),
            (FloatFormat.fp32, Packed) -> (4, 8, 32, 16, 32), (FloatFormat.fp24, Wide) -> (4, 8, 32, 16, 32),
            (FloatFormat(10, 40), Packed) -> (8, 16, 64, 32, 64), (FloatFormat.fp64, Wide) -> (8, 16, 64, 32, 64))) {
-      val p = MapmParams.of(4, 4, 2, f, 3, layout = layout)
+      val p = Configure.of(4, 4, 2, f, 3, layout = layout)
       assert(p.slotBytes == slot && p.records.node.bytes == node && p.records.photon.bytes == photon && p.records.queryHwBytes == soqWord, s"$f $layout")
       assert(p.caches.sopL1.lineBytes == sopLine && p.caches.tsL1.lineBytes == 32 && p.caches.soq.lineBytes == 32, s"$f $layout")
       assert(p.name.endsWith("_wide") == (layout == Wide && f.width <= 16), p.name)
@@ -60,38 +62,8 @@ class MapmParamsSpec extends AnyFunSuite {
     assert(msg(QueueParams(queryFetches = 65)).contains("query fetches"))
     assert(msg(NumberParams(fpuStageWeight = 0.25)).contains("FPU logic per stage must be 0.5..100"))
     assert(MapmParams.table48(64, 64, 4).queues.rsEntries == 32)
-    val e = intercept[mapm.MapmError](MapmParams.of(2, 2, 2, FloatFormat.fp32, 3, tuning = Tuning(registerQueueDepth = Some(10))))
+    val e = intercept[mapm.MapmError](Configure.of(2, 2, 2, FloatFormat.fp32, 3, tuning = Tuning(registerQueueDepth = Some(10))))
     assert(e.getMessage.startsWith("configuration 2/2/2 e8m23: Register queue depth must be 8..4096") ||
       e.getMessage.startsWith("configuration 2/2/2 e8m23: Register queue depth 10"), e.getMessage)
-  }
-
-  test("cache geometry from the command line: SIZE[/LINE[/WAYS]], parts left out keep the default's") {
-    assert(CacheSpec.parse("32K/32/4") == CacheSpec(Some(32768), Some(32), Some(4)))
-    assert(CacheSpec.parse("1M") == CacheSpec(Some(1 << 20)))
-    assert(CacheSpec.parse("512/16") == CacheSpec(Some(512), Some(16)))
-    assert(CacheSpec.parse("128K/64/full").ways.contains(CacheSpec.Full))
-    val d = CachesParams()
-    assert(CacheSpec.parse("8K").applyTo(d.tsL1) == CacheParams(8192, 32, 2), "set-associative stays 2-way")
-    assert(CacheSpec.parse("128K").applyTo(d.tsL2) == CacheParams(131072, 64, 2048), "fully associative stays fully associative")
-    assert(CacheSpec.parse("64K/32/full").applyTo(d.sopL1).fullyAssociative)
-    for ((bad, why) <- Seq("abc" -> "'abc' is not a positive byte count", "0" -> "'0' is not a positive byte count",
-        "16K/x" -> "'x' is not a positive byte count", "16K/32/0" -> "ways '0' is not a count", "1/2/3/4" -> "too many parts"))
-      assert(intercept[mapm.MapmError](CacheSpec.parse(bad)).getMessage.contains(why), bad)
-  }
-
-  test("tuning overrides reach the configuration; a broken geometry names its option") {
-    val t = Tuning(registerQueueDepth = Some(64), rsEntries = Some(24), tsL1 = CacheSpec.parse("4K/32/1"),
-      sopL2 = CacheSpec.parse("128K"), memOutstanding = Some(16))
-    val p = MapmParams.of(4, 4, 3, FloatFormat.fp32, 3, tuning = t)
-    assert(p.queues.registerQueueDepth == 64 && p.queues.rsEntries == 24 && p.memory.maxOutstanding == 16)
-    assert(p.caches.tsL1 == CacheParams(4096, 32, 1) && p.caches.sopL2 == CacheParams(131072, 64, 2048))
-    assert(p.caches.soq == MapmParams.default.caches.soq, "the rest as Table 4.2")
-    assert(t.describe == Seq("rq-depth=64", "rs-entries=24", "ts-l1=4096/32/1", "sop-l2=131072", "mem-outstanding=16"))
-    // a default line grows to fit a record; a line the user gives is checked as given
-    assert(MapmParams.of(1, 1, 1, FloatFormat.fp64, 3).caches.sopL1.lineBytes == 64)
-    val e = intercept[mapm.MapmError](MapmParams.of(1, 1, 1, FloatFormat.fp64, 3, tuning = Tuning(sopL1 = CacheSpec.parse("64K/32/2"))))
-    assert(e.getMessage.contains("SOP L1 line of 32 bytes is shorter than a 64-byte photon record"), e.getMessage)
-    val f = intercept[mapm.MapmError](MapmParams.of(1, 1, 1, FloatFormat.fp32, 3, tuning = Tuning(tsL1 = CacheSpec.parse("15K"))))
-    assert(f.getMessage == "configuration 1/1/1 e8m23: --ts-l1: cache set count must be a power of two, got 240 (size 15360, line 32, ways 2)", f.getMessage)
   }
 }

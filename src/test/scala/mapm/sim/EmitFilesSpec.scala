@@ -1,5 +1,7 @@
 package mapm.sim
 
+import mapm.pipeline.Configure
+
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
 
@@ -17,7 +19,7 @@ import org.scalatest.funsuite.AnyFunSuite
   * manifest, and the file list against Verilator, which must elaborate the design from it alone. */
 class EmitFilesSpec extends AnyFunSuite {
   private val (tsm, som, soa) = (2, 1, 2)
-  private val p = MapmParams.of(tsm, som, soa, FloatFormat(5, 4), 3)
+  private val p = Configure.of(tsm, som, soa, FloatFormat(5, 4), 3)
   private val top = s"Mapm_${p.name}"
   private lazy val dir: Path = {
     val d = Files.createTempDirectory("emit-files")

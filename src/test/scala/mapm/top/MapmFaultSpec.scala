@@ -22,7 +22,7 @@ import org.scalatest.funsuite.AnyFunSuite
 class MapmFaultSpec extends AnyFunSuite {
   private lazy val prep = RtlRun.prepare("test-scenes/cornell-box/scene-small.json", Some(FloatFormat.fp32), 3,
     "target/mapm-fault-test", 2)
-  private lazy val params = mapm.params.MapmParams.of(2, 1, 3, FloatFormat.fp32, 3)
+  private lazy val params = mapm.pipeline.Configure.of(2, 1, 3, FloatFormat.fp32, 3)
   private val opts = Harness.RunOptions(latency = 5, latencyMax = 80, maxCycles = 400000)
 
   private val expected = Seq(

@@ -1,5 +1,7 @@
 package mapm.top
 
+import mapm.pipeline.Configure
+
 import mapm.Slow
 import mapm.format.SlotLayout
 import mapm.params._
@@ -21,12 +23,12 @@ class MapmLintSpec extends AnyFunSuite {
     MapmParams.default,
     MapmParams.presets("4/6/3"),
     MapmParams.presets("2/3/2"),
-    MapmParams.of(1, 1, 2, FloatFormat.fp32, 3),
-    MapmParams.of(3, 2, 3, FloatFormat.fp16, 2),
-    MapmParams.of(2, 3, 1, FloatFormat.bf16, 0, tuning = mapm.params.Tuning(registerQueueDepth = Some(26))),
-    MapmParams.of(1, 1, 1, FloatFormat(6, 9), 3),
-    MapmParams.of(1, 1, 2, FloatFormat.fp16, 3, layout = SlotLayout.Wide),
-    MapmParams.of(1, 1, 1, FloatFormat.fp64, 3))
+    Configure.of(1, 1, 2, FloatFormat.fp32, 3),
+    Configure.of(3, 2, 3, FloatFormat.fp16, 2),
+    Configure.of(2, 3, 1, FloatFormat.bf16, 0, tuning = mapm.pipeline.Tuning(registerQueueDepth = Some(26))),
+    Configure.of(1, 1, 1, FloatFormat(6, 9), 3),
+    Configure.of(1, 1, 2, FloatFormat.fp16, 3, layout = SlotLayout.Wide),
+    Configure.of(1, 1, 1, FloatFormat.fp64, 3))
 
   for (p <- configs) test(s"Mapm_${p.name} lints clean") {
     assume(haveVerilator, "verilator is not on PATH")

@@ -66,7 +66,7 @@ class MapmRtlSpec extends AnyFunSuite {
   for (((t, s, a), seeds) <- Seq((1, 1, 1) -> Seq(1L, 2L, 3L), (2, 1, 2) -> Seq(4L, 5L, 6L), (4, 4, 2) -> Seq(7L, 8L), (3, 2, 3) -> Seq(9L, 10L)))
     test(s"$t/$s/$a fp32, 64 and 1,000 photons, random latency 0-300, reordering, gaps: every SO exact, none lost or twice") {
       assume(haveVerilator, "verilator is not on PATH")
-      val p = MapmParams.of(t, s, a, FloatFormat.fp32, 3)
+      val p = Configure.of(t, s, a, FloatFormat.fp32, 3)
       assert(small.model.count > 100 && large.model.count > 1000)
       check(small, p, stress, seeds)
       check(large, p, stress, seeds.take(1))
@@ -88,8 +88,8 @@ class MapmRtlSpec extends AnyFunSuite {
   // cycles and every counter equal; the harness checks every colour in both runs.
   test("2/1/2 fp32 SOA clock gating: beat for beat and counter for counter the ungated RTL on two scenes") {
     assume(haveVerilator, "verilator is not on PATH")
-    val gated = MapmParams.of(2, 1, 2, FloatFormat.fp32, 3)
-    val ungated = MapmParams.of(2, 1, 2, FloatFormat.fp32, 3, tuning = Tuning(soaClockGate = false))
+    val gated = Configure.of(2, 1, 2, FloatFormat.fp32, 3)
+    val ungated = Configure.of(2, 1, 2, FloatFormat.fp32, 3, tuning = Tuning(soaClockGate = false))
     assert(gated.clocking.soaClockGate && !ungated.clocking.soaClockGate && ungated.name == gated.name + "_nocg")
     for (prep <- Seq(small, large)) {
       val (gs, gr, _) = resultBeats(prep, gated, 41L)
@@ -109,8 +109,8 @@ class MapmRtlSpec extends AnyFunSuite {
   for (((t, s, a), seed) <- Seq((1, 1, 1) -> 31L, (2, 1, 2) -> 32L, (4, 4, 2) -> 33L, (3, 2, 3) -> 34L))
     test(s"$t/$s/$a fp32 timing model: cycle for cycle the full RTL's results, counters and stalls on two scenes") {
       assume(haveVerilator, "verilator is not on PATH")
-      val full = MapmParams.of(t, s, a, FloatFormat.fp32, 3)
-      val timing = MapmParams.of(t, s, a, FloatFormat.fp32, 3, fidelity = Fidelity.Timing)
+      val full = Configure.of(t, s, a, FloatFormat.fp32, 3)
+      val timing = Configure.of(t, s, a, FloatFormat.fp32, 3, fidelity = Fidelity.Timing)
       assert(timing.name == full.name + "_timing")
       for (prep <- Seq(small, large)) {
         val (fs, fr, _) = resultBeats(prep, full, seed)
@@ -136,7 +136,7 @@ class MapmRtlSpec extends AnyFunSuite {
     // The conventional TSA's decisions are the exact ones, as the online TSA's are: the same search.
     assert(conv.model.tsOps == online.model.tsOps && conv.model.count == online.model.count)
     assert(conv.model.passing == online.model.passing, "the same cond check")
-    val p = MapmParams.of(2, 1, 2, FloatFormat.fp32, 3, arith = Arith.Conventional)
+    val p = Configure.of(2, 1, 2, FloatFormat.fp32, 3, arith = Arith.Conventional)
     assert(p.name.endsWith("_conv"))
     check(conv, p, stress, Seq(22L, 23L))
   }
@@ -150,7 +150,7 @@ class MapmRtlSpec extends AnyFunSuite {
     test(s"${f.name} $layout at $t/$s/$a: every SO exact under random memory timing, the frame bit-equal") {
       assume(haveVerilator, "verilator is not on PATH")
       val prep = RtlRun.prepare(scene(s"${f.name}-$layout", 6, 5, 3, 300, "100").toString, Some(f), 3, dir.toString, 2, layout)
-      val p = MapmParams.of(t, s, a, f, 3, layout = layout)
+      val p = Configure.of(t, s, a, f, 3, layout = layout)
       assert(p.slotBytes == slot && prep.model.count > 100)
       assert(MemoryImage.read(prep.image).slot == slot, "the image the harness reads has the hardware's slots")
       check(prep, p, stress, seeds)
@@ -165,20 +165,20 @@ class MapmRtlSpec extends AnyFunSuite {
     assert(prep.model.tsOps == prep.frame.querySet.size.toLong * nonLeaf, "every non-leaf node is searched for every query")
     assert(prep.model.count == prep.frame.querySet.size.toLong * 1000, "every photon is an SO of every query")
     // The smallest bank the parameters allow: 26 entries, of which K = 10 are the depth reserve.
-    val minimal = MapmParams.of(1, 1, 1, FloatFormat.fp32, 3, tuning = mapm.params.Tuning(registerQueueDepth = Some(26)))
-    val stats = check(prep, minimal, stress, Seq(13L)) ++ check(prep, MapmParams.of(2, 1, 2, FloatFormat.fp32, 3), stress, Seq(14L))
+    val minimal = Configure.of(1, 1, 1, FloatFormat.fp32, 3, tuning = mapm.pipeline.Tuning(registerQueueDepth = Some(26)))
+    val stats = check(prep, minimal, stress, Seq(13L)) ++ check(prep, Configure.of(2, 1, 2, FloatFormat.fp32, 3), stress, Seq(14L))
     val peaks = stats.map(_.counters("rqPeak"))
     assert(peaks.head <= 26 && peaks.head >= 16, s"the minimal bank filled up to ${peaks.head} of 26")
     assert(stats.head.counters("stallRqFull") > 0, "the Register-queue rule held work back")
     // Three SOs per TS op from two TSMs against two SOAs: every reservation station fills and the
     // TS block stalls on them.
     assert(stats(1).counters("stallRsFull") > 0)
-    info(s"Register-queue peaks ${peaks.mkString(", ")} (banks of 26 and ${MapmParams.of(2, 1, 2, FloatFormat.fp32, 3).queues.registerQueueDepth}); ${prep.model.tsOps} TS ops, ${prep.model.count} SOs")
+    info(s"Register-queue peaks ${peaks.mkString(", ")} (banks of 26 and ${Configure.of(2, 1, 2, FloatFormat.fp32, 3).queues.registerQueueDepth}); ${prep.model.tsOps} TS ops, ${prep.model.count} SOs")
   }
 
   test("edge cases: empty tree, one photon, one query") {
     assume(haveVerilator, "verilator is not on PATH")
-    val p = MapmParams.of(1, 1, 1, FloatFormat.fp32, 3)
+    val p = Configure.of(1, 1, 1, FloatFormat.fp32, 3)
     val empty = RtlRun.prepare(scene("empty", 4, 3, 2, 0, "30").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
     assert(empty.model.count == 0 && empty.model.tsOps == 0)
     val s0 = check(empty, p, stress, Seq(15L)).head

@@ -1,5 +1,7 @@
 package mapm.top
 
+import mapm.pipeline.Configure
+
 import java.nio.file.{Files, Paths}
 
 import chisel3._
@@ -105,7 +107,7 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
   test("1/1/1 fp32: 150 photons against the model, 8 seeds of random DRAM latency 0-300, back-pressure and query gaps") {
     val k = prepare(150, """{ "auto": 15 }""", FloatFormat.fp32, 3)
     assert(k.expected.size > 200)
-    simulate(new Mapm(MapmParams.of(1, 1, 1, FloatFormat.fp32, 3))) { c =>
+    simulate(new Mapm(Configure.of(1, 1, 1, FloatFormat.fp32, 3))) { c =>
       for (seed <- 1 to 8) run(c, k, seed, DramTiming(maxLatency = if (seed % 2 == 0) 300 else 30, reqReady = 0.7, respValid = 0.6), queryGap = 0.3)
     }
     info(s"${k.image.queryCount} queries, ${k.expected.size} SOs, ${k.tsOps} TS ops per seed")
@@ -113,7 +115,7 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
 
   test("2/1/2 fp16 (g = 2): 150 photons, 4 seeds") {
     val k = prepare(150, "100", FloatFormat.fp16, 2) // h^2 must fit fp16 (max 65504)
-    simulate(new Mapm(MapmParams.of(2, 1, 2, FloatFormat.fp16, 2))) { c =>
+    simulate(new Mapm(Configure.of(2, 1, 2, FloatFormat.fp16, 2))) { c =>
       for (seed <- 1 to 4) run(c, k, 100 + seed, DramTiming(maxLatency = 300, reqReady = 0.5, respValid = 0.5), queryGap = 0.5)
     }
   }

@@ -1,0 +1,40 @@
+package mapm.pipeline
+
+import mapm.numerics.FloatFormat
+import mapm.params._
+import org.scalatest.funsuite.AnyFunSuite
+
+/** A configuration as a command line asks for it ([[Configure.of]]): cache geometries
+  * (`SIZE[/LINE[/WAYS]]`) and the sizes it overrides, reaching the parameters or refused naming
+  * their option. */
+class ConfigureSpec extends AnyFunSuite {
+  test("cache geometry from the command line: SIZE[/LINE[/WAYS]], parts left out keep the default's") {
+    assert(CacheSpec.parse("32K/32/4") == CacheSpec(Some(32768), Some(32), Some(4)))
+    assert(CacheSpec.parse("1M") == CacheSpec(Some(1 << 20)))
+    assert(CacheSpec.parse("512/16") == CacheSpec(Some(512), Some(16)))
+    assert(CacheSpec.parse("128K/64/full").ways.contains(CacheSpec.Full))
+    val d = CachesParams()
+    assert(CacheSpec.parse("8K").applyTo(d.tsL1) == CacheParams(8192, 32, 2), "set-associative stays 2-way")
+    assert(CacheSpec.parse("128K").applyTo(d.tsL2) == CacheParams(131072, 64, 2048), "fully associative stays fully associative")
+    assert(CacheSpec.parse("64K/32/full").applyTo(d.sopL1).fullyAssociative)
+    for ((bad, why) <- Seq("abc" -> "'abc' is not a positive byte count", "0" -> "'0' is not a positive byte count",
+        "16K/x" -> "'x' is not a positive byte count", "16K/32/0" -> "ways '0' is not a count", "1/2/3/4" -> "too many parts"))
+      assert(intercept[mapm.MapmError](CacheSpec.parse(bad)).getMessage.contains(why), bad)
+  }
+
+  test("tuning overrides reach the configuration; a broken geometry names its option") {
+    val t = Tuning(registerQueueDepth = Some(64), rsEntries = Some(24), tsL1 = CacheSpec.parse("4K/32/1"),
+      sopL2 = CacheSpec.parse("128K"), memOutstanding = Some(16))
+    val p = Configure.of(4, 4, 3, FloatFormat.fp32, 3, tuning = t)
+    assert(p.queues.registerQueueDepth == 64 && p.queues.rsEntries == 24 && p.memory.maxOutstanding == 16)
+    assert(p.caches.tsL1 == CacheParams(4096, 32, 1) && p.caches.sopL2 == CacheParams(131072, 64, 2048))
+    assert(p.caches.soq == MapmParams.default.caches.soq, "the rest as Table 4.2")
+    assert(t.describe == Seq("rq-depth=64", "rs-entries=24", "ts-l1=4096/32/1", "sop-l2=131072", "mem-outstanding=16"))
+    // a default line grows to fit a record; a line the user gives is checked as given
+    assert(Configure.of(1, 1, 1, FloatFormat.fp64, 3).caches.sopL1.lineBytes == 64)
+    val e = intercept[mapm.MapmError](Configure.of(1, 1, 1, FloatFormat.fp64, 3, tuning = Tuning(sopL1 = CacheSpec.parse("64K/32/2"))))
+    assert(e.getMessage.contains("SOP L1 line of 32 bytes is shorter than a 64-byte photon record"), e.getMessage)
+    val f = intercept[mapm.MapmError](Configure.of(1, 1, 1, FloatFormat.fp32, 3, tuning = Tuning(tsL1 = CacheSpec.parse("15K"))))
+    assert(f.getMessage == "configuration 1/1/1 e8m23: --ts-l1: cache set count must be a power of two, got 240 (size 15360, line 32, ways 2)", f.getMessage)
+  }
+}
