@@ -61,7 +61,7 @@ class LibertySpec extends AnyFunSuite {
         |  }
         |}
         |""".stripMargin
-    val g = Liberty.parseSyntax(text, "demo.lib")
+    val g = LibertySyntax.parse(text, "demo.lib")
     assert(g.args == Seq("demo"))
     assert(g.simple("time_unit").map(_.value).contains("100ps"))
     assert(g.complex("capacitive_load_unit").map(_.args).contains(Seq("1", "ff")))
