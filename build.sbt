@@ -49,6 +49,12 @@ def splitTests(tests: Seq[TestDefinition], times: (Map[String, Double], Seq[Set[
   groups.toSeq.filter(_.nonEmpty).map(_.sortBy(t => (-weight(t), t.name)))
 }
 
+/** Extracts firtool (Chisel's FIRRTL compiler, shipped in the llvm-firtool jar) into
+  * ~/.cache/llvm-firtool before the test JVMs start: each extracts it on first use, and two doing so
+  * at once raced on a cold machine (one ran the binary before the other had made it executable:
+  * "Permission denied"). Runs one small emit in a JVM of its own when no extracted binary is there yet. */
+lazy val firtoolReady = taskKey[Unit]("extracts firtool once, before the test JVMs that would race to extract it")
+
 def onPath(tool: String): Boolean =
   sys.env.getOrElse("PATH", "").split(java.io.File.pathSeparator).exists(d => new java.io.File(d, tool).canExecute)
 
@@ -91,8 +97,24 @@ lazy val root = (project in file("."))
     // classes within one JVM run one after the other (testForkedParallel).
     Test / parallelExecution := true,
     Test / testForkedParallel := false,
+    firtoolReady := {
+      val cp = (Test / fullClasspath).value.files
+      // firtool-resolver fetches and extracts llvm-firtool at run time, into ~/.cache/llvm-firtool/<version>/bin.
+      val versions = Option((file(sys.props("user.home")) / ".cache" / "llvm-firtool").listFiles).toSeq.flatten
+      if (!versions.exists(v => (v / "bin" / "firtool").canExecute)) {
+        val log = streams.value.log
+        log.info("extracting firtool once, before the test JVMs ...")
+        val javaBin = file(sys.props("java.home")) / "bin" / "java"
+        val out = target.value / "firtool-warmup"
+        val rc = scala.sys.process.Process(Seq(javaBin.getAbsolutePath, "-cp", cp.map(_.getAbsolutePath).mkString(java.io.File.pathSeparator),
+          s"-Dmapm.root=${baseDirectory.value.getAbsolutePath}", "mapm.cli.Main", "emit-tsa", "--format", "5,4", "--out", out.getAbsolutePath),
+          baseDirectory.value).!(log)
+        if (rc != 0) sys.error(s"firtool could not be extracted (emit-tsa exited with $rc)")
+      }
+    },
     // The spec classes in `testJvms` forked JVMs at once, spread by their measured seconds (above).
     Test / testGrouping := {
+      firtoolReady.value
       val opts = ForkOptions().withRunJVMOptions((Test / javaOptions).value.toVector)
         .withEnvVars((Test / envVars).value).withWorkingDirectory(baseDirectory.value)
       val times = readTestTimes(baseDirectory.value / "project" / "test-times.tsv")

@@ -172,4 +172,11 @@ class CliWalkSpec extends AnyFunSuite {
     val e = intercept[MapmError](EvaluateCommand.run(Seq("--quick", "--scene", "x.json")))
     assert(e.getMessage.startsWith("evaluate: unknown option --scene"), e.getMessage)
   }
+
+  test("an output folder named by a file is refused before any work, naming the file in the way") {
+    val file = Files.createTempFile("not-a-folder", ".txt")
+    def err(args: String*): String = intercept[MapmError](ModelCommand.run(args)).getMessage
+    assert(err("--out", file.toString) == s"--out $file: $file is a file, not a folder (it names the output folder)")
+    assert(err("--out", file.resolve("sub").toString) == s"--out ${file.resolve("sub")}: $file is a file, not a folder")
+  }
 }

@@ -38,6 +38,8 @@ class RtlRenderSpec extends AnyFunSuite {
     assert(stats("soIssued").num == stats("modelShaderOps").num && stats("soIssued").num > 0)
     assert(stats("soPassingCond").num == stats("modelShaderOpsPassingCond").num)
     assert(stats("tsOps").num == stats("modelTsOps").num)
+    // Each counter says what it counts: the TSMs' stalls are TSM-cycles (summed over the TSMs).
+    assert(stats("counterUnits")("stallRsFull").str == "TSM-cycles" && stats("counterUnits")("cycles").str == "cycles")
     assert(Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.png")) && Files.isRegularFile(out.resolve("rtl-render-test-tiny-rtl.pfm")))
   }
 
