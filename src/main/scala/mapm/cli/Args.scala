@@ -64,8 +64,7 @@ object Args {
     def show(v: Any): Option[String] = v match {
       case None | _: mainargs.Flag => None
       case Some(x) => show(x)
-      case d: Double => Some(java.math.BigDecimal.valueOf(d).stripTrailingZeros.toPlainString)
-      case x => Some(x.toString)
+      case x => Some(valueText(x))
     }
     def walk(sigs: Seq[ArgSig], base: Any): Seq[Opt] = sigs.flatMap { s =>
       s.reader match {
@@ -109,19 +108,22 @@ object Args {
   def toArgs(group: Product, parser: TokensReader.Class[_]): Seq[String] =
     parser.main.argSigs0.zip(group.productIterator.toSeq).flatMap { case (sig, value) =>
       val name = "--" + sig.longName(mainargs.Util.kebabCaseNameMapper).getOrElse(sig.shortName.fold("")(_.toString))
-      def text(v: Any): String = v match {
-        case c: mapm.pipeline.CacheSpec => c.text
-        case d: Double => java.math.BigDecimal.valueOf(d).stripTrailingZeros.toPlainString
-        case x => x.toString
-      }
       (sig.reader, value) match {
         case (nested: TokensReader.Class[_], g: Product) => toArgs(g, nested)
         case (_, f: mainargs.Flag) => if (f.value) Seq(name) else Seq.empty
         case (_, None) => Seq.empty
-        case (_, Some(v)) => Seq(name, text(v))
-        case (_, v) => Seq(name, text(v))
+        case (_, Some(v)) => Seq(name, valueText(v))
+        case (_, v) => Seq(name, valueText(v))
       }
     }
+
+  /** An option's value as the command line gives it, so that its reader reads it back: a cache
+    * geometry as `SIZE/LINE/WAYS`, a number without trailing zeros, anything else as it prints. */
+  private def valueText(v: Any): String = v match {
+    case c: mapm.pipeline.CacheSpec => c.text
+    case d: Double => java.math.BigDecimal.valueOf(d).stripTrailingZeros.toPlainString
+    case x => x.toString
+  }
 
   /** [[toArgs]] of the options `render`, `sweep` and `evaluate` share. */
   def toArgs(opts: RtlOptions): Seq[String] = toArgs(opts, rtlOptionsParser)

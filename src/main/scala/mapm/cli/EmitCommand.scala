@@ -43,8 +43,9 @@ object EmitCommand extends Command {
     val dir = Paths.get(out)
     val t0 = System.nanoTime()
     val sv = Emit.systemVerilog(new Mapm(p))
+    val design = EmitFiles.read(sv, top)
     val files =
-      try EmitFiles.write(sv, top, dir) :+ Files.write(dir.resolve("mapm_config.h"), mapm.sim.HarnessHeader(p).getBytes(UTF_8))
+      try design.write(dir) :+ Files.write(dir.resolve("mapm_config.h"), mapm.sim.HarnessHeader(p).getBytes(UTF_8))
       catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write into $out: ${e.getMessage}") }
     val secs = (System.nanoTime() - t0) / 1e9
     println(f"emitted $top (${p.counts.label}, format ${p.numbers.format} in ${p.slotBytes}-byte slots, $arith arithmetic, g = $g${if (fidelity == Fidelity.Timing) ", SOAs as timing models" else ""}) in $secs%.1f s")
@@ -53,9 +54,9 @@ object EmitCommand extends Command {
     val units = for (unit <- Seq("TSA", "SOA"); m <- SvStats.modules(sv).find(m => m.startsWith(unit + "_") || m.startsWith("Conv" + unit + "_")))
       yield s"$unit ($m) ${SvStats.registerBits(sv, m)}"
     println(s"  flip-flops per ${units.mkString(", per ")}")
-    val mems = EmitFiles.memories(sv, top)
+    val mems = design.memories
     println(f"  to replace: ${mems.size} memory modules, ${mems.map(_.instances.size).sum} instances, ${mems.map(m => m.bits * m.instances.size).sum / 8192.0}%.0f KiB " +
-      s"(${top}_memories.conf); black boxes ${EmitFiles.blackBoxes(sv, top).map(b => s"${b.module} x${b.instances.size}").mkString(", ")} (${top}_manifest.json)")
+      s"(${top}_memories.conf); black boxes ${design.blackBoxes.map(b => s"${b.module} x${b.instances.size}").mkString(", ")} (${top}_manifest.json)")
     files.foreach(f => println(s"wrote $f"))
     0
   }
