@@ -48,12 +48,8 @@ object Args {
   }
 
   /** The values a value type accepts, from the parsers of those types, for the help. */
-  val choices: Map[String, String] = Map(
-    "format" -> (FloatFormat.presets.map(_._1) :+ "E,M (exponent, fraction bits)").mkString(", "),
-    "arith" -> mapm.numerics.Arith.all.mkString(", "),
-    "layout" -> SlotLayout.all.mkString(", "),
-    "fidelity" -> mapm.params.Fidelity.all.mkString(", "),
-    "geometry" -> "SIZE[/LINE[/WAYS]], e.g. 32K/32/4 or 512K/64/full")
+  lazy val choices: Map[String, String] =
+    Seq(FloatFormatReader, ArithReader, FidelityReader, SlotLayoutReader, CacheSpecReader).map(r => r.shortName -> r.accepted).toMap
 
   /** The options of `container`'s `@main` method, those of its option groups (such as
     * [[RtlOptions]]) in place, less `hide`; each default read from the parser itself (the
@@ -172,40 +168,25 @@ object Args {
   def checkSeed(seed: Long, option: String = "--seed"): Unit =
     MapmError.check(seed >= 0, s"$option must be 0..${Long.MaxValue}, got $seed")
 
-  implicit object FloatFormatReader extends TokensReader.Simple[FloatFormat] {
-    def shortName = "format"
-    def read(strs: Seq[String]): Either[String, FloatFormat] =
-      try Right(FloatFormat.parse(strs.last))
+  /** The reader of an option's value of type `T`: `parse` makes it from the option's text (a
+    * [[MapmError]] is the message mainargs shows), `shortName` names the type in `--help`, and
+    * `accepted` lists the values it takes there. */
+  final class ValueReader[T](val shortName: String, val accepted: String, parse: String => T) extends TokensReader.Simple[T] {
+    def read(strs: Seq[String]): Either[String, T] =
+      try Right(parse(strs.last))
       catch { case e: MapmError => Left(e.getMessage) }
   }
 
-  implicit object ArithReader extends TokensReader.Simple[mapm.numerics.Arith] {
-    def shortName = "arith"
-    def read(strs: Seq[String]): Either[String, mapm.numerics.Arith] =
-      try Right(mapm.numerics.Arith.parse(strs.last))
-      catch { case e: MapmError => Left(e.getMessage) }
-  }
-
-  implicit object FidelityReader extends TokensReader.Simple[mapm.params.Fidelity] {
-    def shortName = "fidelity"
-    def read(strs: Seq[String]): Either[String, mapm.params.Fidelity] =
-      try Right(mapm.params.Fidelity.parse(strs.last))
-      catch { case e: MapmError => Left(e.getMessage) }
-  }
-
-  implicit object SlotLayoutReader extends TokensReader.Simple[SlotLayout] {
-    def shortName = "layout"
-    def read(strs: Seq[String]): Either[String, SlotLayout] =
-      try Right(SlotLayout.parse(strs.last))
-      catch { case e: MapmError => Left(e.getMessage) }
-  }
-
-  implicit object CacheSpecReader extends TokensReader.Simple[mapm.pipeline.CacheSpec] {
-    def shortName = "geometry"
-    def read(strs: Seq[String]): Either[String, mapm.pipeline.CacheSpec] =
-      try Right(mapm.pipeline.CacheSpec.parse(strs.last))
-      catch { case e: MapmError => Left(e.getMessage) }
-  }
+  implicit val FloatFormatReader: ValueReader[FloatFormat] =
+    new ValueReader("format", (FloatFormat.presets.map(_._1) :+ "E,M (exponent, fraction bits)").mkString(", "), FloatFormat.parse)
+  implicit val ArithReader: ValueReader[mapm.numerics.Arith] =
+    new ValueReader("arith", mapm.numerics.Arith.all.mkString(", "), mapm.numerics.Arith.parse)
+  implicit val FidelityReader: ValueReader[mapm.params.Fidelity] =
+    new ValueReader("fidelity", mapm.params.Fidelity.all.mkString(", "), mapm.params.Fidelity.parse)
+  implicit val SlotLayoutReader: ValueReader[SlotLayout] =
+    new ValueReader("layout", SlotLayout.all.mkString(", "), SlotLayout.parse)
+  implicit val CacheSpecReader: ValueReader[mapm.pipeline.CacheSpec] =
+    new ValueReader("geometry", "SIZE[/LINE[/WAYS]], e.g. 32K/32/4 or 512K/64/full", mapm.pipeline.CacheSpec.parse)
 
   /** What each option of the shared groups left out (None) stands for, as `--help` shows it:
     * [[HwOptions]]' sizes are Table 4.2's, read from [[MapmParams.table48]] (a default line too

@@ -38,7 +38,7 @@ object BenchSimCommand extends Command {
   ): Int = {
     MapmError.check(from >= 0 && to > from, s"--from and --to must be 0 <= from < to, got $from and $to")
     val harness = opts.harness()
-    val setup = opts.setup(Seq((tsm, som, soa)))
+    val setup = opts.settings(harness = Some(harness)).setup(Seq((tsm, som, soa)))
     val (p, prep) = (setup.params.head, setup.prep)
     val log = (l: String) => System.err.println(s"mapm: $l")
     val built = RtlRun.build(p, trace = false, opts.simThreads, log, fresh.value)

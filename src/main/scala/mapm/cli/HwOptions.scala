@@ -23,7 +23,4 @@ final case class HwOptions(
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
     sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value)
-
-  /** The sizes given, for a log or a report: "Table 4.2's" when none. */
-  def describe: String = if (tuning.describe.isEmpty) "caches and queues as Table 4.2 (the defaults)" else s"sizes ${tuning.describe.mkString(", ")}, the rest as Table 4.2"
 }

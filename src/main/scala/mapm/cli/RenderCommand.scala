@@ -45,7 +45,7 @@ object RenderCommand extends Command {
     if ((tsm, som, soa) == (16, 16, 2))
       log("MAPM 16/16/2, the default and the largest configuration (--tsm --som --soa choose another; 1/1/1 builds in about a minute)")
     // The Verilog is emitted and verilated while the model computes the frame and its expected SOs.
-    val setup = opts.setup(Seq((tsm, som, soa)), prebuild = Some((wave.isDefined, opts.simThreads)), log = log)
+    val setup = opts.settings(harness = Some(harness)).setup(Seq((tsm, som, soa)), prebuild = Some((wave.isDefined, opts.simThreads)), log = log)
     val (p, prep) = (setup.params.head, setup.prep)
     val timing = p.sim.fidelity == mapm.params.Fidelity.Timing // colours from the model: nothing to compare
     val f = prep.frame

@@ -1,6 +1,6 @@
 package mapm.cli
 
-import mapm.pipeline._
+import mapm.pipeline.RunSettings
 
 import java.nio.file.Path
 
@@ -12,10 +12,11 @@ import mapm.sim.Harness
 import mapm.params.Fidelity
 import Args.{ArithReader, FidelityReader, FloatFormatReader, SlotLayoutReader}
 
-/** The options `render` and `sweep` share ([[RtlRun]]): the scene and its number format, the
+/** The options `render`, `sweep` and `evaluate` share ([[mapm.pipeline.RtlRun]]): the scene and its number format, the
   * harness's memory model and limits ([[Harness.RunOptions]]), the output folder, the model's
   * threads and the hardware sizes ([[HwOptions]]). Each command takes it as one parameter;
-  * mainargs lists its flags with the command's own. */
+  * mainargs lists its flags with the command's own. The command passes them down as a
+  * [[RunSettings]]. */
 @main
 final case class RtlOptions(
     @arg(doc = "scene description file (JSON)") scene: String = RenderCommand.defaultScene,
@@ -48,21 +49,8 @@ final case class RtlOptions(
     Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave, waveStart, waveEnd, latencyMax, queryGap, reqStall,
       respGap, simThreads, tailProb, tailLatency)
 
-  /** The text of these options for [[mapm.evaluation.RunArchive.key]], on the scene file `scene` as
-    * named relative to the checkout: every option but the output folder and the worker threads. */
-  def archiveText(scene: String): String = copy(scene = scene, out = "", threads = 1, simThreads = 1).toString
-
-  /** The settings the results page states ([[mapm.evaluation.ResultsDoc.Settings]]). */
-  def resultsSettings: mapm.evaluation.ResultsDoc.Settings =
-    mapm.evaluation.ResultsDoc.Settings(format, g, arith, layout, hw.tuning, hw.describe, latency, bandwidth)
-
-  /** [[RtlRun.configure]]: the scene, format and configurations `configs` checked, without running the model. */
-  def check(configs: Seq[(Int, Int, Int)]): Unit = {
-    RtlRun.configure(scene, format, g, configs, layout, arith, fidelityOr(), hw.tuning)
-    ()
-  }
-
-  /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
-  def setup(configs: Seq[(Int, Int, Int)], prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): RtlRun.Setup =
-    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelityOr(), hw.tuning, prebuild, log)
+  /** These options as the value a run is made from, the fidelity `default` unless `--fidelity` is
+    * given and the harness's options `harness` (a waveform for `render`). */
+  def settings(default: Fidelity = Fidelity.Full, harness: Option[Harness.RunOptions] = None): RunSettings =
+    RunSettings(scene, format, layout, g, arith, fidelityOr(default), harness.getOrElse(this.harness()), out, threads, hw.tuning)
 }

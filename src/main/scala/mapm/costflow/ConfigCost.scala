@@ -43,22 +43,23 @@ object ConfigCost {
       case m if m.startsWith("SoBlock") => "SO block"
     }.getOrElse("top")
 
-  /** One OpenSTA analysis: a module (whole, or its own logic in a `shell`), its instances, its
-    * fmax and worst path. */
-  final case class Analysis(root: String, instances: Long, shell: Boolean, fmaxGHz: Double, critical: String)
+  /** The design synthesized for method (b): its top, module hierarchy and SRAM arrays, each
+    * module's own cells, every instance path under the top, each module's instance count, the
+    * synthesis result and its seconds. */
+  private final case class Synthesized(top: String, hier: Hierarchy, mems: Seq[String], own: Map[String, ModuleCells.Own],
+                                       paths: Seq[Seq[String]], inst: Map[String, Long], result: Synthesis.Result, seconds: Double)
 
-  def run(flow: CostFlow, p: MapmParams, soa: UnitCost, tsa: UnitCost, meanActivity: Double, dir: Path,
-          log: String => Unit): ujson.Obj = {
-    val nSoa = p.counts.som * p.counts.soaPerSom
-    val nTsa = p.counts.tsm
-    // (a) unit figures times counts; dynamic power scales with the clock at a fixed activity per cycle.
-    val fmaxA = math.min(soa.fmaxGHz, tsa.fmaxGHz)
-    def methodA(clk: Double): ujson.Obj = ujson.Obj("clockGHz" -> clk, "slackMet" -> (clk <= fmaxA + 1e-9),
+  /** Method (a) at clock `clk`: unit figures times counts; dynamic power scales with the clock at a
+    * fixed activity per cycle. */
+  private def methodA(nSoa: Int, nTsa: Int, soa: UnitCost, tsa: UnitCost)(clk: Double): ujson.Obj =
+    ujson.Obj("clockGHz" -> clk, "slackMet" -> (clk <= math.min(soa.fmaxGHz, tsa.fmaxGHz) + 1e-9),
       "areaMm2" -> (nSoa * soa.areaUm2 + nTsa * tsa.areaUm2) / 1e6,
       "dynamicPowerMw" -> (nSoa * soa.dynamicMwAt(clk) + nTsa * tsa.dynamicMwAt(clk)),
       "leakagePowerMw" -> (nSoa * soa.clocks.head.leakageMw + nTsa * tsa.clocks.head.leakageMw))
 
-    // (b) every module's logic.
+  /** Emits `p` for synthesis and synthesizes it once: the blocks, their parts and every cache
+    * kept as modules, the SRAM arrays black boxes. */
+  private def synthesize(flow: CostFlow, p: MapmParams, dir: Path, log: String => Unit): Synthesized = {
     val top = s"Mapm_${p.name}"
     log(s"emitting $top for synthesis ...")
     val sv = Emit.toFile(new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true)
@@ -72,80 +73,99 @@ object ConfigCost {
     val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
     val (syn, synSecs) = SynthesisCache.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
       flatten = false, blackbox = mems, keep = kept)
-    val r = syn.head
-    val own = ModuleCells.read(r.json, flow.library)
+    val own = ModuleCells.read(syn.head.json, flow.library)
     // Every instance path under the top; a module's instance count is the number of paths ending in it.
     val paths = {
       val out = scala.collection.mutable.ArrayBuffer.empty[Seq[String]]
       def walk(chain: Seq[String]): Unit = { out += chain; own.get(chain.last).foreach(_.children.foreach(c => walk(chain :+ c))) }
       walk(Seq(top)); out.toSeq
     }
-    val inst: Map[String, Long] = paths.groupBy(_.last).map { case (m, ps) => m -> ps.size.toLong }
-    // Modules with kept modules inside (the top, the blocks) are analysed as shells; the rest whole.
-    val shells = own.keySet.filter(m => inst.contains(m) && own(m).children.exists(c => !mems.contains(c)))
-    val whole = own.keySet.filter(m => inst.contains(m) && !shells(m) && !mems.contains(m))
-    val texts = VerilogModules.split(new String(Files.readAllBytes(r.verilog), StandardCharsets.UTF_8))
-    val bbFile = r.dir.resolve("blackboxes.v")
+    val inst = paths.groupBy(_.last).map { case (m, ps) => m -> ps.size.toLong }
+    Synthesized(top, hier, mems, own, paths, inst, syn.head, synSecs)
+  }
+
+  /** OpenSTA's timing and power of every module of `d` at the flow's clocks and `meanActivity`:
+    * modules with kept modules inside (the top, the blocks) as shells, the rest whole. */
+  private def analyse(flow: CostFlow, d: Synthesized, meanActivity: Double, dir: Path, log: String => Unit): Seq[(Analysis, Sta.Report)] = {
+    val shells = d.own.keySet.filter(m => d.inst.contains(m) && d.own(m).children.exists(c => !d.mems.contains(c)))
+    val whole = d.own.keySet.filter(m => d.inst.contains(m) && !shells(m) && !d.mems.contains(m))
+    val texts = VerilogModules.split(new String(Files.readAllBytes(d.result.verilog), StandardCharsets.UTF_8))
+    val bbFile = d.result.dir.resolve("blackboxes.v")
     val extra = if (Files.isRegularFile(bbFile)) Seq(bbFile) else Seq.empty
-    val act = Sta.Activity(meanActivity, 0.5)
-    val clocks = flow.clocksGHz
-    val t0 = System.nanoTime()
-    val analyses = (whole.toSeq.sorted.map(m => (m, false)) ++ shells.toSeq.sorted.map(m => (m, true))).map { case (m, shell) =>
-      log(s"timing and power of ${if (shell) s"$m (own logic)" else m} x ${inst(m)} ...")
-      val files = if (!shell) Seq(r.verilog) ++ extra else {
+    (whole.toSeq.sorted.map(m => (m, false)) ++ shells.toSeq.sorted.map(m => (m, true))).map { case (m, shell) =>
+      log(s"timing and power of ${if (shell) s"$m (own logic)" else m} x ${d.inst(m)} ...")
+      val files = if (!shell) Seq(d.result.verilog) ++ extra else {
         val f = dir.resolve("sta-shells").resolve(s"$m.v")
         Files.createDirectories(f.getParent)
-        val kids = own(m).children.distinct.filterNot(mems.contains).flatMap(texts.get).map(VerilogModules.shell)
+        val kids = d.own(m).children.distinct.filterNot(d.mems.contains).flatMap(texts.get).map(VerilogModules.shell)
         Files.write(f, (texts(m) +: kids).mkString("\n\n").getBytes(StandardCharsets.UTF_8))
         Seq(f) ++ extra
       }
-      val rep = Sta.run(files, m, flow.libPath, clocks, dir.resolve("sta").resolve(m), Seq.empty, Seq.empty, act)
+      val rep = Sta.run(files, m, flow.libPath, flow.clocksGHz, dir.resolve("sta").resolve(m), Seq.empty, Seq.empty, Sta.Activity(meanActivity, 0.5))
       val worst = rep.clocks.head
-      Analysis(m, inst(m), shell, rep.fmaxGHz, s"${worst.startPoint} -> ${worst.endPoint}") -> rep
+      Analysis(m, d.inst(m), shell, rep.fmaxGHz, s"${worst.startPoint} -> ${worst.endPoint}") -> rep
     }
-    val staSecs = (System.nanoTime() - t0) / 1e9
+  }
+
+  /** Method (b)'s figures from the synthesized design `d` and its `analyses`: fmax, logic area,
+    * power at each clock, each by block, and the SRAM arrays' bits and modelled area. */
+  private def methodB(d: Synthesized, analyses: Seq[(Analysis, Sta.Report)], clocks: Seq[Double], meanActivity: Double): ujson.Obj = {
+    import d.{own, paths, mems, hier}
     val fmaxB = analyses.map(_._1.fmaxGHz).min
     val slowest = analyses.minBy(_._1.fmaxGHz)._1
-
-    // Area and SRAM by block, over every instance path.
     val blocks = Seq("TS block", "SO block", "caches", "arbiter", "top")
     val areaBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.areaUm2).getOrElse(0.0)).sum }
     val seqBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.seqAreaUm2).getOrElse(0.0)).sum }
     val sramBy = paths.filter(c => mems.contains(c.last)).groupBy(block).map { case (b, ps) => b -> ps.map(c => hier.memoryBits(c.last)).sum }
-    val rootBlock = analyses.map { case (a, _) => a.root -> block(paths.find(_.last == a.root).getOrElse(Seq(top))) }.toMap
+    val rootBlock = analyses.map { case (a, _) => a.root -> block(paths.find(_.last == a.root).getOrElse(Seq(d.top))) }.toMap
     def powerAt(i: Int): (Double, Double, Map[String, Double]) = {
       val per = analyses.map { case (a, rep) => (rootBlock(a.root), rep.clocks(i).dynamicMw * a.instances, rep.clocks(i).leakageMw * a.instances) }
       (per.map(_._2).sum, per.map(_._3).sum, per.groupBy(_._1).map { case (b, xs) => b -> xs.map(_._2).sum })
     }
-    val logicArea = areaBy.values.sum
     val sramBits = sramBy.values.sum
+    ujson.Obj(
+      "description" -> "every module synthesized once, parts kept whole, own cells x instances; SRAM arrays black-boxed",
+      "fmaxGHz" -> fmaxB, "slowest" -> ujson.Obj("module" -> slowest.root, "path" -> slowest.critical),
+      "logicAreaMm2" -> areaBy.values.sum / 1e6, "sequentialAreaMm2" -> seqBy.values.sum / 1e6,
+      "areaByBlockMm2" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(areaBy.getOrElse(b, 0.0) / 1e6))),
+      "activity" -> s"global $meanActivity toggles/cycle (mean net activity of the SOA's gate-level run), duty 0.5",
+      "clocks" -> ujson.Arr.from(clocks.indices.map { i =>
+        val (dyn, leak, by) = powerAt(i)
+        ujson.Obj("clockGHz" -> clocks(i), "slackMet" -> (clocks(i) <= fmaxB + 1e-9), "dynamicPowerMw" -> dyn,
+          "leakagePowerMw" -> leak, "dynamicByBlockMw" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(by.getOrElse(b, 0.0)))))
+      }),
+      "modules" -> ujson.Arr.from(analyses.map { case (a, _) => ujson.Obj("module" -> a.root, "instances" -> a.instances.toDouble,
+        "ownLogicOnly" -> a.shell, "fmaxGHz" -> a.fmaxGHz, "criticalPath" -> a.critical,
+        "areaUm2" -> (if (a.shell) own(a.root).areaUm2 else 0.0)) }),
+      "sram" -> ujson.Obj("model" -> SramModel.source, "bits" -> sramBits.toDouble,
+        "bitsByBlock" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(sramBy.getOrElse(b, 0L).toDouble))),
+        "areaMm2" -> SramModel.areaUm2(sramBits) / 1e6, "powerMw" -> ujson.Null,
+        "arrays" -> ujson.Arr.from(mems.map(m => ujson.Obj("module" -> m, "width" -> hier.memories(m)._1,
+          "depth" -> hier.memories(m)._2, "instances" -> d.inst.getOrElse(m, 0L).toDouble)))))
+  }
 
-    val json = ujson.Obj(
+  /** One OpenSTA analysis: a module (whole, or its own logic in a `shell`), its instances, its
+    * fmax and worst path. */
+  final case class Analysis(root: String, instances: Long, shell: Boolean, fmaxGHz: Double, critical: String)
+
+  /** The cost of configuration `p` by both methods (the report that cost.json holds): (a) from the
+    * SOA's and TSA's unit costs, (b) from `p` synthesized, timed and powered at the flow's clocks
+    * with the SOA's mean net activity `meanActivity`; intermediate files under `dir`. */
+  def run(flow: CostFlow, p: MapmParams, soa: UnitCost, tsa: UnitCost, meanActivity: Double, dir: Path,
+          log: String => Unit): ujson.Obj = {
+    val (nSoa, nTsa) = (p.counts.som * p.counts.soaPerSom, p.counts.tsm)
+    val fmaxA = math.min(soa.fmaxGHz, tsa.fmaxGHz)
+    val d = synthesize(flow, p, dir, log)
+    val t0 = System.nanoTime()
+    val analyses = analyse(flow, d, meanActivity, dir, log)
+    val staSecs = (System.nanoTime() - t0) / 1e9
+    ujson.Obj(
       "configuration" -> p.counts.label, "format" -> p.numbers.format.toString, "g" -> p.numbers.guardDigits,
       "library" -> flow.libPath.getFileName.toString,
       "methodA" -> ujson.Obj("description" -> s"$nSoa SOAs x ${soa.top} + $nTsa TSAs x ${tsa.top} (dissertation Table 4.9)",
-        "fmaxGHz" -> fmaxA, "atFmax" -> methodA(fmaxA), "clocks" -> ujson.Arr.from(clocks.map(methodA))),
-      "methodB" -> ujson.Obj(
-        "description" -> "every module synthesized once, parts kept whole, own cells x instances; SRAM arrays black-boxed",
-        "fmaxGHz" -> fmaxB, "slowest" -> ujson.Obj("module" -> slowest.root, "path" -> slowest.critical),
-        "logicAreaMm2" -> logicArea / 1e6, "sequentialAreaMm2" -> seqBy.values.sum / 1e6,
-        "areaByBlockMm2" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(areaBy.getOrElse(b, 0.0) / 1e6))),
-        "activity" -> s"global $meanActivity toggles/cycle (mean net activity of the SOA's gate-level run), duty 0.5",
-        "clocks" -> ujson.Arr.from(clocks.indices.map { i =>
-          val (dyn, leak, by) = powerAt(i)
-          ujson.Obj("clockGHz" -> clocks(i), "slackMet" -> (clocks(i) <= fmaxB + 1e-9), "dynamicPowerMw" -> dyn,
-            "leakagePowerMw" -> leak, "dynamicByBlockMw" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(by.getOrElse(b, 0.0)))))
-        }),
-        "modules" -> ujson.Arr.from(analyses.map { case (a, rep) => ujson.Obj("module" -> a.root, "instances" -> a.instances.toDouble,
-          "ownLogicOnly" -> a.shell, "fmaxGHz" -> a.fmaxGHz, "criticalPath" -> a.critical,
-          "areaUm2" -> (if (a.shell) own(a.root).areaUm2 else 0.0)) }),
-        "sram" -> ujson.Obj("model" -> SramModel.source, "bits" -> sramBits.toDouble,
-          "bitsByBlock" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(sramBy.getOrElse(b, 0L).toDouble))),
-          "areaMm2" -> SramModel.areaUm2(sramBits) / 1e6, "powerMw" -> ujson.Null,
-          "arrays" -> ujson.Arr.from(mems.map(m => ujson.Obj("module" -> m, "width" -> hier.memories(m)._1,
-            "depth" -> hier.memories(m)._2, "instances" -> inst.getOrElse(m, 0L).toDouble))))),
-      "seconds" -> ujson.Obj("synthesis" -> synSecs, "sta" -> staSecs))
-    json
+        "fmaxGHz" -> fmaxA, "atFmax" -> methodA(nSoa, nTsa, soa, tsa)(fmaxA), "clocks" -> ujson.Arr.from(flow.clocksGHz.map(methodA(nSoa, nTsa, soa, tsa)))),
+      "methodB" -> methodB(d, analyses, flow.clocksGHz, meanActivity),
+      "seconds" -> ujson.Obj("synthesis" -> d.seconds, "sta" -> staSecs))
   }
 
   /** The tables of a configuration's cost (method a beside method b). */

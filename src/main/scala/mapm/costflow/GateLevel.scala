@@ -28,6 +28,33 @@ object GateLevel {
   val Lanes = 64
   private val resetCycles = 4
 
+  /** Runs each lane's input rows `rows` through the unit's RTL in `pipe` and compares its
+    * results, in order, with those the netlist gave (`seen`); `at` is each input port's column.
+    * Each lane's first difference goes to `fail`. Returns the results compared. */
+  private def rtlCheck(u: CostUnit, pipe: VerilatorPipe, rows: Array[ArrayBuffer[Array[BigInt]]], seen: Array[ArrayBuffer[Obs]],
+                       at: Map[String, Int], fail: String => Unit): Long = {
+    var checked = 0L
+    Progress(s"RTL check in Verilator", Lanes.toLong)(bar => for (l <- 0 until Lanes if rows(l).nonEmpty) {
+      bar.advance()
+      val order = pipe.inputs.map(p => at.getOrElse(p.name, sys.error(s"RTL input ${p.name} is not in the netlist")))
+      val (vOut, outs) = (u.validOut.map(pipe.out), u.outPorts.map(pipe.out))
+      val theirs = ArrayBuffer.empty[Obs]
+      var c = 0L
+      pipe.run(rows(l).iterator.map(r => order.map(r).toArray), resetCycles) { o =>
+        if (vOut.forall(o(_) != 0)) theirs += (c -> outs.map(o))
+        c += 1
+      }
+      val mine = seen(l)
+      checked += math.min(mine.length, theirs.length)
+      mine.indices.find(i => i >= theirs.length || mine(i) != theirs(i)).orElse(
+        if (theirs.length > mine.length) Some(mine.length) else None).foreach { i =>
+        fail(s"lane $l: the netlist and the RTL differ at result $i: " +
+          s"netlist ${mine.lift(i).map(describe(u, _)).getOrElse("none")}, RTL ${theirs.lift(i).map(describe(u, _)).getOrElse("none")}")
+      }
+    })
+    checked
+  }
+
   /** The outcome: per net its activity (toggles per cycle) and duty over the `cycles` counted
     * cycles; results checked against the model and against the RTL, the mismatches and the first
     * one described. */
@@ -134,25 +161,7 @@ object GateLevel {
     }
 
     // The same rows through the RTL, lane by lane.
-    var rtlChecked = 0L
-    for (pipe <- rtl) Progress(s"RTL check in Verilator", Lanes.toLong)(bar => for (l <- 0 until Lanes if rows(l).nonEmpty) {
-      bar.advance()
-      val order = pipe.inputs.map(p => at.getOrElse(p.name, sys.error(s"RTL input ${p.name} is not in the netlist")))
-      val (vOut, outs) = (u.validOut.map(pipe.out), u.outPorts.map(pipe.out))
-      val theirs = ArrayBuffer.empty[Obs]
-      var c = 0L
-      pipe.run(rows(l).iterator.map(r => order.map(r).toArray), resetCycles) { o =>
-        if (vOut.forall(o(_) != 0)) theirs += (c -> outs.map(o))
-        c += 1
-      }
-      val mine = seen(l)
-      rtlChecked += math.min(mine.length, theirs.length)
-      mine.indices.find(i => i >= theirs.length || mine(i) != theirs(i)).orElse(
-        if (theirs.length > mine.length) Some(mine.length) else None).foreach { i =>
-        fail(s"lane $l: the netlist and the RTL differ at result $i: " +
-          s"netlist ${mine.lift(i).map(describe(u, _)).getOrElse("none")}, RTL ${theirs.lift(i).map(describe(u, _)).getOrElse("none")}")
-      }
-    })
+    val rtlChecked = rtl.map(pipe => rtlCheck(u, pipe, rows, seen, at, fail(_))).getOrElse(0L)
     val note = if (rtl.isDefined) s"$rtlChecked results of ${u.top} in Verilator" else "skipped: verilator not found"
     new Result(nl, lib, counted, activity, duty, checked, rtlChecked, note, mismatches, first)
   }

@@ -1,6 +1,6 @@
 package mapm.evaluation
 
-import mapm.pipeline.Configure
+import mapm.pipeline.{Configure, RunSettings}
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Path}
@@ -12,12 +12,6 @@ import mapm.params.{Fidelity, MapmParams}
   * to the page). Every figure of ours comes from the runs' `stats.json` and the unit cost reports;
   * the dissertation's from [[Dissertation]]. */
 object ResultsDoc {
-  /** The settings the runs shared, as the page states them: the number format (None: the scenes'),
-    * guard digits, arithmetic, memory records, the sizes given (`tuning`; `sizes` says them in
-    * words) and the memory model's latency and bandwidth. */
-  final case class Settings(format: Option[mapm.numerics.FloatFormat], g: Int, arith: mapm.numerics.Arith, layout: mapm.format.SlotLayout,
-                            tuning: mapm.pipeline.Tuning, sizes: String, latency: Int, bandwidth: Double)
-
   type Rows = Seq[(Workloads.Workload, Seq[SweepReport.Row])]
 
   private def n(x: Long): String = f"$x%,d"
@@ -36,22 +30,24 @@ object ResultsDoc {
     }
   }
 
-  /** Writes the page and its charts; returns the files written. */
-  def write(file: Path, rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, settings: ResultsDoc.Settings,
+  /** Writes the page and its charts; returns the files written. `settings` are those the runs
+    * shared (the scene aside): the page states their number format (None: the scenes'), guard
+    * digits, arithmetic, fidelity, sizes and memory model. */
+  def write(file: Path, rows: Rows, cost: SweepReport.Cost, quick: Boolean, settings: RunSettings,
             parts: Seq[RunArchive.Part]): Seq[Path] = {
     val chartDir = Option(file.toAbsolutePath.getParent).getOrElse(file.toAbsolutePath).resolve("results")
     Files.createDirectories(chartDir)
     val charts = rows.map { case (w, rs) => w -> SweepReport.charts(chartDir, w.key, w.title, rs, Some(cost), cost.clockGHz) }
     for ((w, rs) <- rows) Files.write(chartDir.resolve(s"${w.key}-sweep.csv"), SweepReport.csv(rs, Some(cost), cost.clockGHz).getBytes(UTF_8))
-    Files.write(file, markdown(rows, cost, fidelity, quick, settings, parts, file, charts).getBytes(UTF_8))
+    Files.write(file, markdown(rows, cost, quick, settings, parts, file, charts).getBytes(UTF_8))
     file +: charts.flatMap(_._2)
   }
 
   /** `parts`: the local runs that made the rows, one after another (none: merged by `--collect`). */
-  def markdown(rows: Rows, cost: SweepReport.Cost, fidelity: Fidelity, quick: Boolean, settings: ResultsDoc.Settings, parts: Seq[RunArchive.Part],
+  def markdown(rows: Rows, cost: SweepReport.Cost, quick: Boolean, settings: RunSettings, parts: Seq[RunArchive.Part],
                file: Path, charts: Seq[(Workloads.Workload, Seq[Path])]): String = {
     val page = new Page(rows, cost, settings)
-    page.header(fidelity, quick, parts)
+    page.header(settings.fidelity, quick, parts)
     page.table410(); page.table48(); page.table49(); page.table411(); page.table413()
     page.differences()
     page.charts(file, charts)
@@ -59,7 +55,7 @@ object ResultsDoc {
   }
 
   /** The page as it is written, a section at a time. */
-  private final class Page(rows: Rows, cost: SweepReport.Cost, settings: ResultsDoc.Settings) {
+  private final class Page(rows: Rows, cost: SweepReport.Cost, settings: RunSettings) {
     private val sb = new StringBuilder
     private def line(s: String = ""): Unit = sb ++= s + "\n"
     private val byKey = rows.map { case (w, rs) => w.key -> rs.map(r => r.c -> r).toMap }.toMap
@@ -84,7 +80,7 @@ object ResultsDoc {
       if (quick) line(s"This is the quick run: the ${Workloads.quickConfigs.map(label).mkString(" and ")} rows of each table alone. `tools/mapm evaluate` runs them all.")
       line()
       line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")
-      line(s"- Number format ${settings.format.map(_.toString).getOrElse("fp32")}, g = ${settings.g}, ${settings.arith} arithmetic; ${settings.sizes}; memory latency ${settings.latency} cycles, ${settings.bandwidth} bytes/cycle.")
+      line(s"- Number format ${settings.format.map(_.toString).getOrElse("fp32")}, g = ${settings.g}, ${settings.arith} arithmetic; ${settings.tuning.summary}; memory latency ${settings.harness.latency} cycles, ${settings.harness.bandwidth} bytes/cycle.")
       line(f"- Cost by the dissertation's method (Table 4.9: unit figures times counts), from our open flow (yosys, OpenSTA, OSU 0.18 um): ${cost.soa.top} ${cost.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.soa.fmaxGHz * 1000}%.0f MHz, ${cost.soa.dynamicPjPerCycle}%.0f pJ/cycle; ${cost.tsa.top} ${cost.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.tsa.fmaxGHz * 1000}%.0f MHz, ${cost.tsa.dynamicPjPerCycle}%.0f pJ/cycle (docs/cost.md).")
       line(f"- Throughput, power and GB/s of ours at **$clk%.3f GHz** (${cost.clockSource}) where a column says \"at fmax\"; at the dissertation's 1.5 GHz where it says so, to compare cycles alone. The dissertation's figures are at 90 nm and 1.5 GHz.")
       line()

@@ -7,13 +7,12 @@ import mapm.numerics.FloatFormat
   * bits zero-extended), the smallest that holds the format and is at least `minSlot`.
   * [[SlotLayout.Packed]] (the default) packs 16-bit formats into 2-byte slots; [[SlotLayout.Wide]]
   * keeps them in 4-byte slots, so that the two can be compared on one design. */
-sealed abstract class SlotLayout(val name: String, val code: Int, val minSlot: Int) {
+sealed abstract class SlotLayout(name: String, val code: Int, val minSlot: Int) extends mapm.Choice(name) {
   /** The slot size for `format`. */
   def slotBytes(format: FloatFormat): Int = MemoryLayout.SlotSizes.find(s => s >= minSlot && 8 * s >= format.width).get
-  override def toString: String = name
 }
 
-object SlotLayout {
+object SlotLayout extends mapm.Choices[SlotLayout] {
   /** The smallest slot of 2, 4 or 8 bytes: the layout the hardware reads by default. */
   case object Packed extends SlotLayout("packed", 0, 2)
   /** Slots of at least 4 bytes, whatever the format. */
@@ -21,9 +20,7 @@ object SlotLayout {
 
   val all: Seq[SlotLayout] = Seq(Packed, Wide)
 
-  /** The layout named `text`; a [[MapmError]] for any other name. */
-  def parse(text: String): SlotLayout =
-    all.find(_.name == text).getOrElse(MapmError.fail(s"layout '$text': expected ${all.map(_.name).mkString(" or ")}"))
+  protected def unknown(text: String): String = s"layout '$text': expected ${all.map(_.name).mkString(" or ")}"
 
   /** The layout of header code `code`, if any. */
   def ofCode(code: Long): Option[SlotLayout] = all.find(_.code == code)

@@ -135,15 +135,12 @@ final case class IndexParams(
 /** What the emitted SOAs compute: `full` (the arithmetic, colours and the distance check) or
   * `timing` (a latency-exact delay line carrying valid and tag alone: cycle for cycle the same
   * machine, colours and cond left to the harness's expected SOs; docs/harness.md). */
-sealed abstract class Fidelity(val name: String) {
-  override def toString: String = name
-}
-object Fidelity {
+sealed abstract class Fidelity(name: String) extends mapm.Choice(name)
+object Fidelity extends mapm.Choices[Fidelity] {
   case object Full extends Fidelity("full")
   case object Timing extends Fidelity("timing")
   val all: Seq[Fidelity] = Seq(Full, Timing)
-  def parse(s: String): Fidelity = all.find(_.name == s).getOrElse(
-    mapm.MapmError.fail(s"fidelity must be one of ${all.map(_.name).mkString(", ")}, got '$s'"))
+  protected def unknown(s: String): String = s"fidelity must be one of ${all.map(_.name).mkString(", ")}, got '$s'"
 }
 
 /** Clock gating, which saves the power of idle logic in silicon and its evaluation in Verilator. */
@@ -214,12 +211,18 @@ final case class MapmParams(
   }
 }
 
+/** The presets, each a `.copy` of the one above it: the dissertation's MAPM, Table 4.8's
+  * configurations of it, and the small MAPM that the tests share. */
 object MapmParams {
-  /** A configuration of Table 4.8 (TSMs/SOMs/SOAs per SOM), everything else at its default. */
-  def table48(tsm: Int, som: Int, soa: Int): MapmParams = {
-    val p = MapmParams()
-    p.copy(counts = ModuleCounts(tsm, som, soa), queues = p.queues.copy(rsEntries = 8 * soa))
-  }
+  /** The dissertation's MAPM (sections 3.2 and 4.1): 16 TSMs, 16 SOMs of 2 SOAs, fp32 with the
+    * online arithmetic, Table 4.2's caches, 8 reservation-station entries per SOA. Every field's
+    * default is this preset's, and it is every command's default configuration. */
+  val dissertation: MapmParams = MapmParams()
+
+  /** A configuration of Table 4.8 (TSMs/SOMs/SOAs per SOM): the dissertation's MAPM with these
+    * counts and 8 reservation-station entries per SOA. */
+  def table48(tsm: Int, som: Int, soa: Int): MapmParams =
+    dissertation.copy(counts = ModuleCounts(tsm, som, soa), queues = dissertation.queues.copy(rsEntries = 8 * soa))
 
   /** The 24 configurations of Table 4.8, by label (e.g. "16/16/2"). */
   val table48Configs: Seq[(Int, Int, Int)] = Seq(
@@ -227,9 +230,15 @@ object MapmParams {
     (4, 2, 2), (4, 2, 3), (4, 4, 2), (4, 4, 3), (4, 6, 2), (4, 6, 3), (8, 4, 2), (8, 4, 3),
     (8, 8, 2), (8, 8, 3), (8, 12, 2), (8, 12, 3), (16, 8, 2), (16, 8, 3), (16, 16, 2), (16, 16, 3))
 
+  /** Table 4.8's configurations by label. */
   val presets: Map[String, MapmParams] =
     table48Configs.map { case (t, s, a) => s"$t/$s/$a" -> table48(t, s, a) }.toMap
 
-  /** The default configuration: 16/16/2 at fp32, the dissertation's best throughput per area. */
-  val default: MapmParams = table48(16, 16, 2)
+  /** The default configuration: the dissertation's 16/16/2 at fp32, its best throughput per area. */
+  val default: MapmParams = dissertation
+
+  /** The small MAPM the tests share: one TSM and one SOM with one SOA (1/1/1), the rest the
+    * dissertation's; it elaborates and simulates in seconds, and it is what `--tsm 1 --som 1
+    * --soa 1` gives. */
+  val small: MapmParams = table48(1, 1, 1)
 }

@@ -76,6 +76,10 @@ final case class Tuning(
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
       memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate"))
   }
+
+  /** The sizes given, in a phrase for a log or a report: Table 4.2's when none. */
+  def summary: String =
+    if (describe.isEmpty) "caches and queues as Table 4.2 (the defaults)" else s"sizes ${describe.mkString(", ")}, the rest as Table 4.2"
 }
 
 /** A MAPM configuration made from what a command line gives: counts, format, guard digits, layout,

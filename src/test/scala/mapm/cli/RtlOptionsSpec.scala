@@ -29,16 +29,16 @@ class RtlOptionsSpec extends AnyFunSuite {
     val code = "c0"
     val scene = "test-scenes/cornell-box/scene-small.json"
     val base = RtlOptions(scene = scene)
-    val k = mapm.evaluation.RunArchive.key(code, scene, base.archiveText(scene), (2, 1, 2))
-    assert(mapm.evaluation.RunArchive.key(code, scene, base.copy(out = "elsewhere", threads = 7, simThreads = 2).archiveText(scene), (2, 1, 2)) == k)
-    assert(mapm.evaluation.RunArchive.key(code, scene, base.copy(scene = "/abs/path/" + scene).archiveText(scene), (2, 1, 2)) == k, "the scene is named relative to the checkout")
+    val k = mapm.evaluation.RunArchive.key(code, scene, base.settings().archiveText(scene), (2, 1, 2))
+    assert(mapm.evaluation.RunArchive.key(code, scene, base.copy(out = "elsewhere", threads = 7, simThreads = 2).settings().archiveText(scene), (2, 1, 2)) == k)
+    assert(mapm.evaluation.RunArchive.key(code, scene, base.copy(scene = "/abs/path/" + scene).settings().archiveText(scene), (2, 1, 2)) == k, "the scene is named relative to the checkout")
     for (other <- Seq(base.copy(latency = 101), base.copy(bandwidth = 7.0), base.copy(g = 4), base.copy(seed = 2),
       base.copy(fidelity = Some(mapm.params.Fidelity.Timing)), base.copy(format = Some(mapm.numerics.FloatFormat.fp16)),
       base.copy(hw = HwOptions(rsEntries = Some(8)))))
-      assert(mapm.evaluation.RunArchive.key(code, scene, other.archiveText(scene), (2, 1, 2)) != k, other.toString)
-    assert(mapm.evaluation.RunArchive.key(code, scene, base.archiveText(scene), (2, 1, 3)) != k)
-    assert(mapm.evaluation.RunArchive.key("c1", scene, base.archiveText(scene), (2, 1, 2)) != k)
-    assert(mapm.evaluation.RunArchive.key(code, "test-scenes/cornell-box/scene.json", base.archiveText("test-scenes/cornell-box/scene.json"), (2, 1, 2)) != k)
+      assert(mapm.evaluation.RunArchive.key(code, scene, other.settings().archiveText(scene), (2, 1, 2)) != k, other.toString)
+    assert(mapm.evaluation.RunArchive.key(code, scene, base.settings().archiveText(scene), (2, 1, 3)) != k)
+    assert(mapm.evaluation.RunArchive.key("c1", scene, base.settings().archiveText(scene), (2, 1, 2)) != k)
+    assert(mapm.evaluation.RunArchive.key(code, "test-scenes/cornell-box/scene.json", base.settings().archiveText("test-scenes/cornell-box/scene.json"), (2, 1, 2)) != k)
   }
 
   test("toArgs gives back the options it was made from (the arguments a Slurm task reruns with), over 200 seeded draws") {

@@ -21,8 +21,8 @@ class StressSpec extends AnyFunSuite {
   }
 
   test("seeds are drawn from the seed alone, within the documented ranges") {
-    val a = (1 to 200).map(s => StressCommand.draw(s, 1000000))
-    assert(a == (1 to 200).map(s => StressCommand.draw(s, 1000000)), "the same seed draws the same memory system")
+    val a = (1 to 200).map(s => mapm.pipeline.Stress.draw(s, 1000000))
+    assert(a == (1 to 200).map(s => mapm.pipeline.Stress.draw(s, 1000000)), "the same seed draws the same memory system")
     assert(a.distinct.size == 200)
     assert(a.forall(o => o.latency >= 0 && o.latency <= 40 && (o.latencyMax == 0 || o.latencyMax > o.latency)))
     assert(a.forall(o => o.queryGap < 0.6 + 1e-9 && o.reqStall <= 0.5 && o.respGap <= 0.5))
@@ -42,8 +42,8 @@ class StressSpec extends AnyFunSuite {
     val rows = csvRows(dir)
     assert(rows.map(_("seed")) == Seq("1", "2", "3") && rows.forall(_("result") == "PASS"))
     assert(rows.map(_("so_checked")).distinct.size == 1 && rows.head("so_checked").toLong > 1000)
-    val line = StressCommand.renderCommand(StressCommand.defaultScene, StressCommand.parseEntries("2/1/3").head, 3,
-      StressCommand.draw(2, 5000000), 0, 1).split(' ').toSeq
+    val line = mapm.pipeline.Stress.renderCommand(StressCommand.defaultScene, StressCommand.parseEntries("2/1/3").head, 3,
+      mapm.pipeline.Stress.draw(2, 5000000), 0, 1).split(' ').toSeq
     val args = line.drop(2).takeWhile(_ != "--wave") ++ Seq("--out", dir.resolve("replay").toString, "--threads", "2")
     val stdout = new ByteArrayOutputStream()
     assert(Console.withOut(stdout)(RenderCommand.run(args)) == 0)

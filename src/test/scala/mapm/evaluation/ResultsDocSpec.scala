@@ -33,10 +33,14 @@ class ResultsDocSpec extends AnyFunSuite {
       UnitCostCache.Figures(u, u.toUpperCase + "_x", fmax, area, pj, 0.5, "test", dir.resolve(s"$u.json"))
     val cost = SweepReport.Cost(unit("soa", 6e6, 0.3, 300), unit("tsa", 0.25e6, 0.6, 2), 0.3, "fmax of the slower unit, the SOA")
     val file = dir.resolve("results.md")
-    val files = ResultsDoc.write(file, rows, cost, mapm.params.Fidelity.Timing, quick = true,
-      ResultsDoc.Settings(None, 3, mapm.numerics.Arith.Online, mapm.format.SlotLayout.Packed, mapm.pipeline.Tuning(), "caches and queues as Table 4.2 (the defaults)", 100, 14.0), Seq(RunArchive.Part(1, "2026-12-04T10:00Z", 123.0, 2, 2, 8)))
+    val files = ResultsDoc.write(file, rows, cost, quick = true,
+      mapm.pipeline.RunSettings("test-scenes/cornell-box/scene.json", None, mapm.format.SlotLayout.Packed, 3, mapm.numerics.Arith.Online,
+        mapm.params.Fidelity.Timing, mapm.sim.Harness.RunOptions(latency = 100, bandwidth = 14.0), "out", 1, mapm.pipeline.Tuning()), Seq(RunArchive.Part(1, "2026-12-04T10:00Z", 123.0, 2, 2, 8)))
     val md = new String(Files.readAllBytes(file), "UTF-8")
     for (t <- Seq("Table 4.10", "Table 4.8", "Table 4.9", "Table 4.11", "Table 4.13")) assert(md.contains(s"## $t"), t)
+    // The settings the runs shared, as the page states them (timing fidelity, Table 4.2's sizes, the memory model).
+    assert(md.contains("- Number format fp32, g = 3, online arithmetic; caches and queues as Table 4.2 (the defaults); memory latency 100 cycles, 14.0 bytes/cycle."), md)
+    assert(md.contains("in timing fidelity (the SOAs as their cycle-exact delay-line model"), md)
     for (w <- ws.tail) assert(md.contains(s"### ${w.title}"))
     // Table 4.8, 16/16/2: the dissertation's cycles and BSO/s, ours half the cycles, 12 SO/cycle = 18 BSO/s at 1.5 GHz, 3.6 at 0.3 GHz
     assert(md.contains("| 16/16/2 | 476,341 | 238,170 | 0.500 | 26.012 | 18.000 | 3.600 |"), md)

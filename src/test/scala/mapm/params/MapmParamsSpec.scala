@@ -32,6 +32,16 @@ class MapmParamsSpec extends AnyFunSuite {
     assert(deep.name == "t16s16a2_e8m23_g3_fw1" && MapmParams(numbers = NumberParams(fpuStageWeight = 1.5)).name.endsWith("_fw1p5"))
   }
 
+  test("presets: the dissertation's MAPM is the default, and the small one is what the command line's 1/1/1 gives") {
+    // Table 4.8's 16/16/2 with 8 reservation-station entries per SOA is the dissertation's MAPM (section 4.1).
+    assert(MapmParams.dissertation == MapmParams.presets("16/16/2") && MapmParams.default == MapmParams.dissertation)
+    assert(MapmParams.dissertation.counts == ModuleCounts(16, 16, 2) && MapmParams.dissertation.queues.rsEntries == 16)
+    val s = MapmParams.small
+    assert(s.counts == ModuleCounts(1, 1, 1) && s.name == "t1s1a1_e8m23_g3" && s.rsPerSoa == 8)
+    assert(s.caches == MapmParams.dissertation.caches && s.numbers == MapmParams.dissertation.numbers)
+    assert(Configure.of(1, 1, 1, FloatFormat.fp32, 3) == s)
+  }
+
   test("slots, record sizes and cache lines follow the format and the layout") {
     import mapm.format.SlotLayout.{Packed, Wide}
     // (format, layout) -> (slot, node, photon, SOQ word, SOP L1 line) as docs/memory-layout.md gives them

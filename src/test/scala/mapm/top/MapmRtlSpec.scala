@@ -178,7 +178,7 @@ class MapmRtlSpec extends AnyFunSuite {
 
   test("edge cases: empty tree, one photon, one query") {
     assume(haveVerilator, "verilator is not on PATH")
-    val p = Configure.of(1, 1, 1, FloatFormat.fp32, 3)
+    val p = MapmParams.small
     val empty = RtlRun.prepare(scene("empty", 4, 3, 2, 0, "30").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
     assert(empty.model.count == 0 && empty.model.tsOps == 0)
     val s0 = check(empty, p, stress, Seq(15L)).head

@@ -107,7 +107,7 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
   test("1/1/1 fp32: 150 photons against the model, 8 seeds of random DRAM latency 0-300, back-pressure and query gaps") {
     val k = prepare(150, """{ "auto": 15 }""", FloatFormat.fp32, 3)
     assert(k.expected.size > 200)
-    simulate(new Mapm(Configure.of(1, 1, 1, FloatFormat.fp32, 3))) { c =>
+    simulate(new Mapm(MapmParams.small)) { c =>
       for (seed <- 1 to 8) run(c, k, seed, DramTiming(maxLatency = if (seed % 2 == 0) 300 else 30, reqReady = 0.7, respValid = 0.6), queryGap = 0.3)
     }
     info(s"${k.image.queryCount} queries, ${k.expected.size} SOs, ${k.tsOps} TS ops per seed")
