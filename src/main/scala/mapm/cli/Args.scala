@@ -49,7 +49,7 @@ object Args {
 
   /** The values a value type accepts, from the parsers of those types, for the help. */
   lazy val choices: Map[String, String] =
-    Seq(FloatFormatReader, ArithReader, FidelityReader, SlotLayoutReader, CacheSpecReader).map(r => r.shortName -> r.accepted).toMap
+    Seq(FloatFormatReader, ArithReader, FidelityReader, SlotLayoutReader, QueryOrderReader, CacheSpecReader).map(r => r.shortName -> r.accepted).toMap
 
   /** The options of `container`'s `@main` method, those of its option groups (such as
     * [[RtlOptions]]) in place, less `hide`; each default read from the parser itself (the
@@ -185,6 +185,8 @@ object Args {
     new ValueReader("fidelity", mapm.params.Fidelity.all.mkString(", "), mapm.params.Fidelity.parse)
   implicit val SlotLayoutReader: ValueReader[SlotLayout] =
     new ValueReader("layout", SlotLayout.all.mkString(", "), SlotLayout.parse)
+  implicit val QueryOrderReader: ValueReader[mapm.model.QueryOrder] =
+    new ValueReader("order", mapm.model.QueryOrder.all.mkString(", "), mapm.model.QueryOrder.parse)
   implicit val CacheSpecReader: ValueReader[mapm.pipeline.CacheSpec] =
     new ValueReader("geometry", "SIZE[/LINE[/WAYS]], e.g. 32K/32/4 or 512K/64/full", mapm.pipeline.CacheSpec.parse)
 
@@ -200,7 +202,7 @@ object Args {
     Map("--rq-depth" -> one.queues.registerQueueDepth.toString, "--rs-entries" -> s"${one.queues.rsEntries} per SOA",
       "--ts-l1" -> geometry(c.tsL1), "--ts-l2" -> geometry(c.tsL2), "--soq" -> geometry(c.soq),
       "--sop-l1" -> geometry(c.sopL1), "--sop-l2" -> geometry(c.sopL2), "--mem-outstanding" -> one.memory.maxOutstanding.toString,
-      "--fidelity" -> mapm.params.Fidelity.Full.name)
+      "--sop-l2-banks" -> one.uncore.sopL2.banks.toString, "--fidelity" -> mapm.params.Fidelity.Full.name)
   }
 
   /** The hardware sizes `emit`, `render`, `sweep` and `evaluate` share (see [[rtlOptionsParser]] for why here). */

@@ -19,8 +19,9 @@ final case class HwOptions(
     @arg(name = "sop-l1", doc = "SOP L1 per SOM, split into one bank per SOA") sopL1: Option[CacheSpec] = None,
     @arg(name = "sop-l2", doc = "shared SOP L2") sopL2: Option[CacheSpec] = None,
     @arg(doc = "requests in flight at once on the memory port") memOutstanding: Option[Int] = None,
+    @arg(name = "sop-l2-banks", doc = "SOP L2 banks: 1 is one shared cache with one port (Table 4.2's); 2, 4 ... 64 split it by line address, each bank with its own port, behind a registered network (docs/uncore.md)") sopL2Banks: Option[Int] = None,
     @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag()) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
-    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value)
+    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value, sopL2Banks)
 }

@@ -143,6 +143,30 @@ object Fidelity extends mapm.Choices[Fidelity] {
   protected def unknown(s: String): String = s"fidelity must be one of ${all.map(_.name).mkString(", ")}, got '$s'"
 }
 
+/** How a shared L2 is built: one cache with one port (Table 4.2's), or `banks` caches that split
+  * the lines by address, each with its own port, behind a registered network (docs/uncore.md). */
+sealed abstract class L2Structure(name: String) extends mapm.Choice(name) {
+  /** The caches it is built of. */
+  def banks: Int
+}
+object L2Structure {
+  /** One cache, one request a cycle: the dissertation's shared L2. */
+  case object Shared extends L2Structure("shared") { val banks = 1 }
+  /** `banks` address-interleaved caches (line address mod `banks`), each a quarter, an eighth ... of
+    * the capacity, each taking one request a cycle. */
+  final case class Banked(banks: Int) extends L2Structure(s"banked$banks") {
+    require(banks >= 2 && banks <= Banked.MaxBanks && isPow2(banks), s"SOP L2 banks must be a power of two 2..${Banked.MaxBanks}, got $banks")
+  }
+  object Banked {
+    val MaxBanks = 64
+  }
+}
+
+/** The memory system between the blocks' L1s and the memory port (mapm.uncore). */
+final case class UncoreParams(
+    sopL2: L2Structure = L2Structure.Shared // the SOP L2: one shared cache, or address-interleaved banks
+)
+
 /** Clock gating, which saves the power of idle logic in silicon and its evaluation in Verilator. */
 final case class ClockingParams(
     soaClockGate: Boolean = true // each SOA's clock runs only while an operation enters or is inside it (docs/mapm.md)
@@ -162,6 +186,7 @@ final case class MapmParams(
     memory: MemoryParams = MemoryParams(),   // memory port
     indices: IndexParams = IndexParams(),    // index widths
     clocking: ClockingParams = ClockingParams(), // clock gating
+    uncore: UncoreParams = UncoreParams(),   // the L2s and the memory system below the L1s
     sim: SimParams = SimParams()             // full RTL or the SOAs' timing model
 ) {
   /** Bytes of a format slot in the memory records: the format's in the configured layout. */
@@ -180,6 +205,8 @@ final case class MapmParams(
   require(caches.sopL1.lineBytes >= records.photon.bytes,
     s"SOP L1 line of ${caches.sopL1.lineBytes} bytes is shorter than a ${records.photon.bytes}-byte photon record ($slotBytes-byte slots)")
   require(caches.sopL1.lineBytes <= caches.sopL2.lineBytes, "SOP L1 line must not be longer than the SOP L2 line")
+  require(caches.sopL2.lines / uncore.sopL2.banks >= 2 && (caches.sopL2.fullyAssociative || caches.sopL2.sets >= uncore.sopL2.banks),
+    s"SOP L2 of ${caches.sopL2.describe} cannot be split into ${uncore.sopL2.banks} banks: each needs two lines and a set of its own")
   require(queues.registerQueueDepth >= indices.nodeBits + 4,
     s"Register queue depth ${queues.registerQueueDepth} must exceed the tree-depth reserve: at least ${indices.nodeBits + 4} for ${indices.nodeBits}-bit node indices")
   require(queues.rsEntries % counts.soaPerSom == 0 && queues.rsEntries / counts.soaPerSom >= SoGroup.Size,
@@ -196,10 +223,18 @@ final case class MapmParams(
     g.copy(sizeBytes = size)
   }
 
+  /** Geometry of one SOP L2 bank ([[UncoreParams.sopL2]]; the whole SOP L2 when shared): 1/banks
+    * of the capacity, fully associative when the SOP L2 is, else the same ways over 1/banks of the sets. */
+  def sopL2Bank: CacheParams = {
+    val (g, n) = (caches.sopL2, uncore.sopL2.banks)
+    g.copy(sizeBytes = g.sizeBytes / n, ways = if (g.fullyAssociative) g.lines / n else g.ways)
+  }
+
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
     * wide layout gives the format larger slots than the packed one, the FPU logic per stage
     * (e.g. `_fw1p5`) where it is not the default, `_conv` for the conventional arithmetic,
-    * `_timing` for the SOAs' timing model and `_nocg` for SOAs without clock gating. */
+    * `_timing` for the SOAs' timing model, `_nocg` for SOAs without clock gating and `_b8` for
+    * an SOP L2 of 8 banks. */
   def name: String = {
     val wide = if (slotBytes != SlotLayout.Packed.slotBytes(numbers.format)) "_wide" else ""
     val w = numbers.fpuStageWeight
@@ -207,7 +242,8 @@ final case class MapmParams(
     val conv = if (numbers.arith == Arith.Conventional) "_conv" else ""
     val timing = if (sim.fidelity == Fidelity.Timing) "_timing" else ""
     val gate = if (clocking.soaClockGate) "" else "_nocg"
-    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate"
+    val banks = uncore.sopL2 match { case L2Structure.Shared => ""; case L2Structure.Banked(n) => s"_b$n" }
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate$banks"
   }
 }
 

@@ -67,14 +67,16 @@ final case class Tuning(
     sopL1: CacheSpec = CacheSpec(),         // SOP L1 geometry (per SOM, split into one bank per SOA)
     sopL2: CacheSpec = CacheSpec(),         // SOP L2 geometry
     memOutstanding: Option[Int] = None,     // requests in flight on the memory port
-    soaClockGate: Boolean = true            // gate each SOA's clock while it holds no operation
+    soaClockGate: Boolean = true,           // gate each SOA's clock while it holds no operation
+    sopL2Banks: Option[Int] = None          // SOP L2 banks (1: one shared cache, Table 4.2's)
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
     def spec(n: String, c: CacheSpec) = if (c.isEmpty) None else Some(s"$n=${c.text}")
     registerQueueDepth.map(d => s"rq-depth=$d").toSeq ++ rsEntries.map(r => s"rs-entries=$r") ++
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
-      memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate"))
+      memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate")) ++
+      sopL2Banks.map(b => s"sop-l2-banks=$b")
   }
 
   /** The sizes given, in a phrase for a log or a report: Table 4.2's when none. */
@@ -85,6 +87,13 @@ final case class Tuning(
 /** A MAPM configuration made from what a command line gives: counts, format, guard digits, layout,
   * arithmetic, fidelity and the sizes it overrides ([[Tuning]]). */
 object Configure {
+  /** The SOP L2 of `--sop-l2-banks n`: shared for 1, else `n` banks; a [[mapm.MapmError]] naming
+    * the option for a count the hardware does not build. */
+  def sopL2Structure(n: Int): L2Structure =
+    if (n == 1) L2Structure.Shared
+    else try L2Structure.Banked(n)
+    catch { case e: IllegalArgumentException => mapm.MapmError.fail(s"--sop-l2-banks: ${e.getMessage.stripPrefix("requirement failed: ")}") }
+
   /** The configuration a command line asks for: module counts, format, guard digits and memory
     * layout, and the sizes `tuning` overrides (queues, caches, the memory port); everything else as [[MapmParams.table48]] sizes it, with every
     * cache line at least as long as the record it holds (a 64-byte photon record of 8-byte slots
@@ -109,6 +118,7 @@ object Configure {
         memory = base.memory.copy(layout = layout, maxOutstanding = t.memOutstanding.getOrElse(base.memory.maxOutstanding)),
         sim = SimParams(fidelity),
         clocking = ClockingParams(t.soaClockGate),
+        uncore = base.uncore.copy(sopL2 = t.sopL2Banks.map(sopL2Structure).getOrElse(base.uncore.sopL2)),
         caches = CachesParams(tsL1 = fit("ts-l1", c.tsL1, t.tsL1, r.node.bytes), tsL2 = fit("ts-l2", c.tsL2, t.tsL2, 0),
           soq = fit("soq", c.soq, t.soq, r.queryHwBytes), sopL1 = fit("sop-l1", c.sopL1, t.sopL1, r.photon.bytes),
           sopL2 = fit("sop-l2", c.sopL2, t.sopL2, 0)),

@@ -61,10 +61,11 @@ object RtlRun {
     * `outDir/<scene>-rtl/` (`<scene>-conv-rtl/` for the conventional arithmetic, whose name
     * carries `-conv` in every output file). With `prebuild` (trace, model threads) every
     * configuration is emitted and built on a thread of its own while the model runs, and
-    * [[runConfig]] takes that build. */
+    * [[runConfig]] takes that build. The memory image streams the queries in `queryOrder`. */
   def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int,
             layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online, fidelity: Fidelity = Fidelity.Full,
-            tuning: Tuning = Tuning(), prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): Setup = {
+            tuning: Tuning = Tuning(), prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => (),
+            queryOrder: QueryOrder = QueryOrder.Host): Setup = {
     MapmError.check(threads >= 1, s"--threads must be at least 1, got $threads")
     val (config, fmt, params) = configure(scene, format, g, configs, layout, arith, fidelity, tuning)
     import scala.concurrent.ExecutionContext.Implicits.global
@@ -75,7 +76,7 @@ object RtlRun {
     Files.createDirectories(work)
     val t0 = System.nanoTime()
     val image = work.resolve("image.bin")
-    mapm.sim.FrameImage.of(frame.map, frame.querySet, layout).write(image)
+    mapm.sim.FrameImage.of(frame.map, frame.querySet, layout, Some(queryOrder.of(frame.querySet))).write(image)
     val t1 = System.nanoTime()
     val expected = work.resolve("expected.bin")
     val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith)

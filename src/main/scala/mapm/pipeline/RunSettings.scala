@@ -3,6 +3,7 @@ package mapm.pipeline
 import java.nio.file.{Path, Paths}
 
 import mapm.format.SlotLayout
+import mapm.model.QueryOrder
 import mapm.numerics.{Arith, FloatFormat}
 import mapm.params.Fidelity
 import mapm.sim.Harness
@@ -22,6 +23,7 @@ import mapm.sim.Harness
   * @param out      output folder
   * @param threads  worker threads of the model
   * @param tuning   hardware sizes given (the rest as Table 4.2)
+  * @param queryOrder the order in which the host streams the queries
   */
 final case class RunSettings(
     scene: String,
@@ -33,7 +35,8 @@ final case class RunSettings(
     harness: Harness.RunOptions,
     out: String,
     threads: Int,
-    tuning: Tuning) {
+    tuning: Tuning,
+    queryOrder: QueryOrder = QueryOrder.Host) {
 
   /** The run's work folder under [[out]], as [[RtlRun.setup]] names it: `<scene>-rtl`, or
     * `<scene>-conv-rtl` for the conventional arithmetic. */
@@ -53,5 +56,5 @@ final case class RunSettings(
 
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
   def setup(configs: Seq[(Int, Int, Int)], prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): RtlRun.Setup =
-    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, tuning, prebuild, log)
+    RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, tuning, prebuild, log, queryOrder)
 }

@@ -48,10 +48,10 @@ class Mapm(val p: MapmParams) extends Module {
   so.io.in <> ts.io.so
   io.out := so.io.out
 
-  val arb = Module(new MemArbiter(Seq(ts.io.tsMem.p, ts.io.soqMem.p, so.io.mem.p), p.memory.maxOutstanding))
+  val arb = Module(new MemArbiter(Seq(ts.io.tsMem.p, ts.io.soqMem.p) ++ so.io.mem.map(_.p), p.memory.maxOutstanding))
   arb.io.up(0) <> ts.io.tsMem
   arb.io.up(1) <> ts.io.soqMem
-  arb.io.up(2) <> so.io.mem
+  for ((m, b) <- so.io.mem.zipWithIndex) arb.io.up(2 + b) <> m
   io.mem <> arb.io.down
 
   // Requests outstanding on the memory port (request taken to last beat).
@@ -84,6 +84,7 @@ class Mapm(val p: MapmParams) extends Module {
   c.sopL1_misses := sc.sopL1Misses
   c.sopL2_hits := sc.sopL2Hits
   c.sopL2_misses := sc.sopL2Misses
+  c.sopL2_conflicts := sc.sopL2Conflicts
   c.bytesFetched := (Counters.count(Seq(io.mem.resp.fire)) << log2Ceil(p.memory.dataBytes))(63, 0)
   c.rqPeak := tc.rqPeak
 }
@@ -92,5 +93,5 @@ object Mapm {
   /** The shape of the top's memory port: the outer arbiter's shared port over the TS L2, the SOQ
     * cache and the SOP L2. */
   def memParams(p: MapmParams): MemPortParams =
-    MemArbiter.downParams(Seq(TsBlock.l2Config(p).down, QueryFetch.soqConfig(p).down, SoBlock.l2Config(p).down))
+    MemArbiter.downParams(Seq(TsBlock.l2Config(p).down, QueryFetch.soqConfig(p).down) ++ Seq.fill(p.uncore.sopL2.banks)(SoBlock.l2Config(p).down))
 }

@@ -34,7 +34,7 @@ class RtlOptionsSpec extends AnyFunSuite {
     assert(mapm.evaluation.RunArchive.key(code, scene, base.copy(scene = "/abs/path/" + scene).settings().archiveText(scene), (2, 1, 2)) == k, "the scene is named relative to the checkout")
     for (other <- Seq(base.copy(latency = 101), base.copy(bandwidth = 7.0), base.copy(g = 4), base.copy(seed = 2),
       base.copy(fidelity = Some(mapm.params.Fidelity.Timing)), base.copy(format = Some(mapm.numerics.FloatFormat.fp16)),
-      base.copy(hw = HwOptions(rsEntries = Some(8)))))
+      base.copy(hw = HwOptions(rsEntries = Some(8))), base.copy(queryOrder = mapm.model.QueryOrder.Morton)))
       assert(mapm.evaluation.RunArchive.key(code, scene, other.settings().archiveText(scene), (2, 1, 2)) != k, other.toString)
     assert(mapm.evaluation.RunArchive.key(code, scene, base.settings().archiveText(scene), (2, 1, 3)) != k)
     assert(mapm.evaluation.RunArchive.key("c1", scene, base.settings().archiveText(scene), (2, 1, 2)) != k)
@@ -51,13 +51,14 @@ import mapm.pipeline.CacheSpec
       CacheSpec(Some(524288), Some(64), Some(CacheSpec.Full)))
     for (_ <- 0 until 200) {
       val hw = HwOptions(maybe(rnd.nextInt(512) + 1), maybe(8 * (rnd.nextInt(4) + 1)), maybe(spec), maybe(spec), maybe(spec), maybe(spec),
-        maybe(spec), maybe(rnd.nextInt(64) + 1), mainargs.Flag(rnd.nextBoolean()))
+        maybe(spec), maybe(rnd.nextInt(64) + 1), maybe(pick(1, 2, 4, 16)), mainargs.Flag(rnd.nextBoolean()))
       val o = RtlOptions(scene = pick("test-scenes/cornell-box/scene.json", "a b/c.json"), format = maybe(pick(FloatFormat.fp16, FloatFormat(5, 4), FloatFormat.fp64)),
         layout = pick(mapm.format.SlotLayout.Packed, mapm.format.SlotLayout.Wide), g = rnd.nextInt(5), arith = pick(mapm.numerics.Arith.Online, mapm.numerics.Arith.Conventional),
         fidelity = maybe(pick(Fidelity.Full, Fidelity.Timing)), latency = rnd.nextInt(300), latencyMax = rnd.nextInt(400),
         queryGap = pick(0.0, 0.1, 1.0 / 3), reqStall = rnd.nextDouble(), respGap = pick(0.0, 0.25), tailProb = pick(0.0, 0.01),
         tailLatency = rnd.nextInt(5000), bandwidth = pick(14.0, 3.5, 1e-3), clockGhz = pick(1.5, 0.319), seed = rnd.nextLong() & Long.MaxValue,
-        simThreads = rnd.nextInt(4) + 1, maxCycles = rnd.nextInt(1000000).toLong, out = pick("out", "x/y"), threads = rnd.nextInt(8) + 1, hw = hw)
+        simThreads = rnd.nextInt(4) + 1, maxCycles = rnd.nextInt(1000000).toLong, out = pick("out", "x/y"), threads = rnd.nextInt(8) + 1,
+        queryOrder = pick(mapm.model.QueryOrder.all: _*), hw = hw)
       assert(parse(Args.toArgs(o): _*) == o, Args.toArgs(o).mkString(" "))
     }
   }

@@ -37,4 +37,22 @@ class ConfigureSpec extends AnyFunSuite {
     val f = intercept[mapm.MapmError](Configure.of(1, 1, 1, FloatFormat.fp32, 3, tuning = Tuning(tsL1 = CacheSpec.parse("15K"))))
     assert(f.getMessage == "configuration 1/1/1 e8m23: --ts-l1: cache set count must be a power of two, got 240 (size 15360, line 32, ways 2)", f.getMessage)
   }
+
+  test("--sop-l2-banks: 1 is the shared SOP L2, a power of two up to 64 banks; anything else a one-line error naming it") {
+    def banks(n: Int) = Configure.of(2, 2, 2, FloatFormat.fp32, 3, tuning = Tuning(sopL2Banks = Some(n)))
+    assert(banks(1).uncore.sopL2 == L2Structure.Shared && banks(1) == Configure.of(2, 2, 2, FloatFormat.fp32, 3))
+    for (n <- Seq(2, 4, 8, 16, 32, 64)) {
+      val p = banks(n)
+      assert(p.uncore.sopL2 == L2Structure.Banked(n) && p.name.endsWith(s"_b$n"))
+      // Table 4.2's 512 KiB fully associative SOP L2 of 64-byte lines, split evenly.
+      assert(p.sopL2Bank == CacheParams(524288 / n, 64, 8192 / n))
+    }
+    assert(Tuning(sopL2Banks = Some(8)).describe == Seq("sop-l2-banks=8"))
+    for (n <- Seq(0, 3, 12, 128))
+      assert(intercept[mapm.MapmError](banks(n)).getMessage == s"--sop-l2-banks: SOP L2 banks must be a power of two 2..64, got $n")
+    // A set-associative SOP L2 needs a set per bank.
+    val few = intercept[mapm.MapmError](Configure.of(1, 1, 1, FloatFormat.fp32, 3,
+      tuning = Tuning(sopL2 = CacheSpec.parse("4K/64/16"), sopL2Banks = Some(8))))
+    assert(few.getMessage.contains("cannot be split into 8 banks"), few.getMessage)
+  }
 }

@@ -28,7 +28,8 @@ class MapmLintSpec extends AnyFunSuite {
     Configure.of(2, 3, 1, FloatFormat.bf16, 0, tuning = mapm.pipeline.Tuning(registerQueueDepth = Some(26))),
     Configure.of(1, 1, 1, FloatFormat(6, 9), 3),
     Configure.of(1, 1, 2, FloatFormat.fp16, 3, layout = SlotLayout.Wide),
-    Configure.of(1, 1, 1, FloatFormat.fp64, 3))
+    Configure.of(1, 1, 1, FloatFormat.fp64, 3),
+    Configure.of(2, 3, 2, FloatFormat.fp32, 3, tuning = mapm.pipeline.Tuning(sopL2Banks = Some(8))))
 
   for (p <- configs) test(s"Mapm_${p.name} lints clean") {
     assume(haveVerilator, "verilator is not on PATH")

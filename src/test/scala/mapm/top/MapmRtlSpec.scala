@@ -73,6 +73,16 @@ class MapmRtlSpec extends AnyFunSuite {
       info(s"${seeds.size + 1} runs: ${small.frame.querySet.size} and ${large.frame.querySet.size} queries, ${small.model.count} and ${large.model.count} SOs")
     }
 
+  test("SOP L2 in 4 banks at 3/3/3 (nine SOP L1 banks, an odd SOM count): every SO exact under random memory timing") {
+    assume(haveVerilator, "verilator is not on PATH")
+    val p = Configure.of(3, 3, 3, FloatFormat.fp32, 3, tuning = mapm.pipeline.Tuning(sopL2Banks = Some(4)))
+    assert(p.uncore.sopL2 == L2Structure.Banked(4) && p.name.endsWith("_b4"))
+    val stats = check(small, p, stress, Seq(21L, 22L)) ++ check(large, p, stress, Seq(23L))
+    // Every SOP L1 miss reached the L2 banks: their accesses are the L1 misses.
+    for (s <- stats) assert(s.counters("sopL2_hits") + s.counters("sopL2_misses") == s.counters("sopL1_misses"))
+    info(s"bank-conflict waits: ${stats.map(_.counters("sopL2_conflicts")).mkString(", ")} requester-cycles")
+  }
+
   /** Runs `p` on `prep` under the stress options with `seed`, recording every result beat:
     * (stats, the `cycle port q photon` lines in the order they came out, the verdict). */
   private def resultBeats(prep: RtlRun.Prepared, p: MapmParams, seed: Long): (HarnessStats, Seq[String], String) = {

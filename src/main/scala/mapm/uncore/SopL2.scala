@@ -1,0 +1,98 @@
+package mapm.uncore
+
+import chisel3._
+import chisel3.util._
+import mapm.memory.{CacheConfig, MemArbiter, MemPort, MemPortParams, MemResp, ReadOnlyCache}
+import mapm.params.{L2Structure, MapmParams}
+import mapm.util.Counters
+
+/** Counters of the SOP L2 (64 bits each). `conflicts` counts requester-cycles in which an SOP L1
+  * bank's miss waited at its L2 bank because that bank took another bank's miss that cycle. */
+class SopL2Counters extends Bundle {
+  val hits = UInt(64.W)
+  val misses = UInt(64.W)
+  val conflicts = UInt(64.W)
+}
+
+/** The SOP L2 (3.5) behind the SOP L1 banks' miss ports, in the structure `p.uncore.sopL2` names
+  * ([[SopL2.structure]]):
+  *
+  *  - [[L2Structure.Shared]] (Table 4.2's): one [[MemArbiter]] over every L1 bank's miss port in
+  *    front of one [[ReadOnlyCache]], which takes one request a cycle. `mem` has one port.
+  *  - [[L2Structure.Banked]]`(n)`: `n` caches of 1/n of the capacity each, line address mod n
+  *    choosing the bank, behind a network whose every path is registered: each L1's request
+  *    enters a two-entry queue, goes to its bank's arbiter (round robin over the L1s), and enters
+  *    the bank through another two-entry queue; each bank's responses leave through a two-entry
+  *    queue, route back to their L1 by id, meet the other banks' responses for that L1 in a
+  *    round-robin arbiter and leave through a last two-entry queue. No combinational path runs
+  *    from an L1 through the network to a bank or back. `mem` has one port per bank.
+  *
+  * Latency: a hit answers in the shared structure 3 cycles after the arbiter takes the request
+  * (the cache's own latency), in the banked one 4 cycles later (a register each way on each side
+  * of the arbiters). Throughput: one request a cycle shared; up to one a cycle per bank banked,
+  * with `conflicts` counting the requests that waited on a busy bank.
+  *
+  * @param up the shape of an L1 bank's miss port
+  */
+class SopL2(p: MapmParams, up: MemPortParams) extends Module {
+  private val clients = p.counts.som * p.counts.soaPerSom
+  val structure: L2Structure = p.uncore.sopL2
+  private val n = structure.banks
+  val bankConfig: CacheConfig = SopL2.bankConfig(p, up)
+  override def desiredName = s"SopL2_${structure.name}_c$clients"
+
+  val io = IO(new Bundle {
+    val l1 = Vec(clients, Flipped(new MemPort(up)))
+    val mem = Vec(n, new MemPort(bankConfig.down))
+    val protocolError = Output(Bool())
+    val counters = Output(new SopL2Counters)
+  })
+
+  private val banks = Seq.fill(n)(Module(new ReadOnlyCache(bankConfig)))
+  private val arbs = Seq.fill(n)(Module(new MemArbiter(up, clients, maxOutstanding = 4 * clients)))
+  for (b <- 0 until n) io.mem(b) <> banks(b).io.down
+
+  structure match {
+    case L2Structure.Shared =>
+      for (i <- 0 until clients) arbs.head.io.up(i) <> io.l1(i)
+      banks.head.io.up <> arbs.head.io.down
+      io.counters.conflicts := Counters.count(io.l1.map(l => l.req.valid && !l.req.ready && arbs.head.io.down.req.fire))
+    case L2Structure.Banked(_) =>
+      val bankBits = log2Ceil(n)
+      val lineBits = log2Ceil(bankConfig.lineBytes)
+      val waits = for (i <- 0 until clients) yield {
+        val req = Queue(io.l1(i).req, 2)
+        val bank = req.bits.addr(lineBits + bankBits - 1, lineBits)
+        for (b <- 0 until n) {
+          val port = arbs(b).io.up(i)
+          port.req.valid := req.valid && bank === b.U
+          port.req.bits := req.bits
+        }
+        req.ready := VecInit(arbs.map(_.io.up(i).req.ready))(bank)
+        val respArb = Module(new RRArbiter(new MemResp(up), n))
+        for (b <- 0 until n) respArb.io.in(b) <> arbs(b).io.up(i).resp
+        io.l1(i).resp <> Queue(respArb.io.out, 2)
+        req.valid && !req.ready && VecInit(arbs.map(_.io.down.req.fire))(bank)
+      }
+      for (b <- 0 until n) {
+        banks(b).io.up.req <> Queue(arbs(b).io.down.req, 2)
+        arbs(b).io.down.resp <> Queue(banks(b).io.up.resp, 2)
+      }
+      io.counters.conflicts := Counters.count(waits)
+  }
+
+  io.protocolError := (banks.map(_.io.protocolError) ++ arbs.map(_.io.protocolError)).reduce(_ || _)
+  io.counters.hits := Counters.sum(banks.map(_.io.counters.hits))
+  io.counters.misses := Counters.sum(banks.map(_.io.counters.misses))
+}
+
+object SopL2 {
+  /** One bank of the SOP L2 (the whole cache when shared): [[MapmParams.sopL2Bank]], the lines of
+    * line address mod banks, serving the L1 banks' lines through their arbiter, fetching from
+    * memory in the port's beats. */
+  def bankConfig(p: MapmParams, up: MemPortParams): CacheConfig = {
+    val clients = p.counts.som * p.counts.soaPerSom
+    CacheConfig.below(MemArbiter.downParams(Seq.fill(clients)(up)), p.sopL2Bank, downBytes = p.memory.dataBytes)
+      .copy(interleave = p.uncore.sopL2.banks)
+  }
+}
