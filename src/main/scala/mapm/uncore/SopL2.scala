@@ -2,7 +2,7 @@ package mapm.uncore
 
 import chisel3._
 import chisel3.util._
-import mapm.memory.{CacheConfig, MemArbiter, MemPort, MemPortParams, MemResp, ReadOnlyCache}
+import mapm.memory.{CacheConfig, MemArbiter, MemPort, MemPortParams, MemResp, ReadOnlyCache, RegFifo}
 import mapm.params.{L2Structure, MapmParams}
 import mapm.util.Counters
 
@@ -20,8 +20,8 @@ class SopL2Counters extends Bundle {
   *  - [[L2Structure.Shared]] (Table 4.2's): one [[MemArbiter]] over every L1 bank's miss port in
   *    front of one [[ReadOnlyCache]], which takes one request a cycle. `mem` has one port.
   *  - [[L2Structure.Banked]]`(n)`: `n` caches of 1/n of the capacity each, line address mod n
-  *    choosing the bank, behind a network whose every path is registered: each L1's request
-  *    enters a two-entry queue, goes to its bank's arbiter (round robin over the L1s), and enters
+  *    choosing the bank, behind a network whose every path is registered (two-entry
+  *    [[RegFifo]]s): each L1's request enters a two-entry queue, goes to its bank's arbiter (round robin over the L1s), and enters
   *    the bank through another two-entry queue; each bank's responses leave through a two-entry
   *    queue, route back to their L1 by id, meet the other banks' responses for that L1 in a
   *    round-robin arbiter and leave through a last two-entry queue. No combinational path runs
@@ -48,6 +48,13 @@ class SopL2(p: MapmParams, up: MemPortParams) extends Module {
     val counters = Output(new SopL2Counters)
   })
 
+  /** `in` through a two-entry register FIFO: valid, bits and ready all leave a register. */
+  private def registered[T <: Data](in: DecoupledIO[T]): DecoupledIO[T] = {
+    val f = Module(new RegFifo(chiselTypeOf(in.bits), 2))
+    f.io.enq <> in
+    f.io.deq
+  }
+
   private val banks = Seq.fill(n)(Module(new ReadOnlyCache(bankConfig)))
   private val arbs = Seq.fill(n)(Module(new MemArbiter(up, clients, maxOutstanding = 4 * clients)))
   for (b <- 0 until n) io.mem(b) <> banks(b).io.down
@@ -61,7 +68,7 @@ class SopL2(p: MapmParams, up: MemPortParams) extends Module {
       val bankBits = log2Ceil(n)
       val lineBits = log2Ceil(bankConfig.lineBytes)
       val waits = for (i <- 0 until clients) yield {
-        val req = Queue(io.l1(i).req, 2)
+        val req = registered(io.l1(i).req)
         val bank = req.bits.addr(lineBits + bankBits - 1, lineBits)
         for (b <- 0 until n) {
           val port = arbs(b).io.up(i)
@@ -71,12 +78,12 @@ class SopL2(p: MapmParams, up: MemPortParams) extends Module {
         req.ready := VecInit(arbs.map(_.io.up(i).req.ready))(bank)
         val respArb = Module(new RRArbiter(new MemResp(up), n))
         for (b <- 0 until n) respArb.io.in(b) <> arbs(b).io.up(i).resp
-        io.l1(i).resp <> Queue(respArb.io.out, 2)
+        io.l1(i).resp <> registered(respArb.io.out)
         req.valid && !req.ready && VecInit(arbs.map(_.io.down.req.fire))(bank)
       }
       for (b <- 0 until n) {
-        banks(b).io.up.req <> Queue(arbs(b).io.down.req, 2)
-        arbs(b).io.down.resp <> Queue(banks(b).io.up.resp, 2)
+        banks(b).io.up.req <> registered(arbs(b).io.down.req)
+        arbs(b).io.down.resp <> registered(banks(b).io.up.resp)
       }
       io.counters.conflicts := Counters.count(waits)
   }
