@@ -47,14 +47,17 @@ object StressCommand extends Command {
       @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
       @arg(doc = "fail a run that has not finished after this many cycles") maxCycles: Long = 5000000,
       @arg(doc = "output folder") out: String = "out",
-      @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads
+      @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads,
+      @arg(name = "sop-l2-banks", doc = "SOP L2 banks of every configuration: 1 is one shared cache (Table 4.2's), 2 .. 64 address-interleaved banks (docs/uncore.md)") sopL2Banks: Int = 1
   ): Int = {
     MapmError.check(seeds >= 1 && seeds <= 1000000, s"stress: --seeds must be 1..1000000, got $seeds")
     MapmError.check(firstSeed >= 0, s"stress: --first-seed must be at least 0, got $firstSeed")
     MapmError.check(maxCycles >= 1000, s"stress: --max-cycles must be at least 1000, got $maxCycles")
     val entries = parseEntries(configs)
     MapmError.check(entries.nonEmpty, "stress: no configurations given")
-    Stress.run(scene, entries, g, seeds, firstSeed, maxCycles, Paths.get(out), threads)
+    val tuning = mapm.pipeline.Tuning(sopL2Banks = if (sopL2Banks == 1) None else Some(sopL2Banks))
+    mapm.pipeline.Configure.sopL2Structure(sopL2Banks) // a bad count fails before any work
+    Stress.run(scene, entries, g, seeds, firstSeed, maxCycles, Paths.get(out), threads, tuning)
     0
   }
 

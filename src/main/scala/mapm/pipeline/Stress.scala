@@ -31,11 +31,11 @@ object Stress {
       tailProb = if (tail) Seq(0.01, 0.05)(r.nextInt(2)) else 0, tailLatency = if (tail) latencyMax + 200 + r.nextInt(2801) else 0)
   }
 
-  /** The `render` command line that replays run `o` of configuration `e` on `scene`, with a
-    * waveform of cycles [waveStart, waveEnd]. */
-  def renderCommand(scene: String, e: Entry, g: Int, o: Harness.RunOptions, waveStart: Long, waveEnd: Long): String =
+  /** The `render` command line that replays run `o` of configuration `e` on `scene` (with the
+    * sizes `tuning`), with a waveform of cycles [waveStart, waveEnd]. */
+  def renderCommand(scene: String, e: Entry, g: Int, o: Harness.RunOptions, waveStart: Long, waveEnd: Long, tuning: Tuning = Tuning()): String =
     (Seq("tools/mapm", "render", "--scene", scene, "--tsm", e.tsm.toString, "--som", e.som.toString, "--soa", e.soa.toString, "--g", g.toString) ++
-      e.format.toSeq.flatMap(f => Seq("--format", f.name)) ++
+      e.format.toSeq.flatMap(f => Seq("--format", f.name)) ++ tuning.sopL2Banks.toSeq.flatMap(b => Seq("--sop-l2-banks", b.toString)) ++
       o.args.grouped(2).filterNot(kv => kv.head == "--max-cycles" || kv.head == "--clock-ghz").flatten ++
       Seq("--max-cycles", o.maxCycles.toString, "--wave", "stress-fail.fst", "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString))
       .mkString(" ")
@@ -43,8 +43,10 @@ object Stress {
   /** Runs `seeds` seeds from `firstSeed` of each entry on `scene` with `g` guard digits, failing a
     * run not finished after `maxCycles`; writes `stress.csv` (a row per run) into `outDir` and
     * prints a line per entry and the total. The model side runs once per format, with `threads`
-    * worker threads. Fails ([[MapmError]]) at the first failing run. */
-  def run(scene: String, entries: Seq[Entry], g: Int, seeds: Int, firstSeed: Long, maxCycles: Long, outDir: Path, threads: Int): Unit = {
+    * worker threads; every configuration takes the SOP L2 structure of `tuning`. Fails
+    * ([[MapmError]]) at the first failing run. */
+  def run(scene: String, entries: Seq[Entry], g: Int, seeds: Int, firstSeed: Long, maxCycles: Long, outDir: Path, threads: Int,
+          tuning: Tuning = Tuning()): Unit = {
     Files.createDirectories(outDir)
     val csv = outDir.resolve("stress.csv")
     val rows = Seq.newBuilder[String]
@@ -61,7 +63,7 @@ object Stress {
     for (e <- entries) {
       val prep = preps.getOrElseUpdate(e.format,
         RtlRun.prepare(scene, e.format, g, outDir.resolve(s"stress-${e.format.map(_.name).getOrElse("scene-format")}").toString, threads))
-      val p = Configure.of(e.tsm, e.som, e.soa, prep.frame.format, g)
+      val p = Configure.of(e.tsm, e.som, e.soa, prep.frame.format, g, tuning = tuning)
       val cycles = Seq.newBuilder[Long]
       val bar = new mapm.model.Progress(s"stress ${e.label}", seeds.toLong)
       for (seed <- firstSeed until firstSeed + seeds) {
@@ -81,7 +83,7 @@ object Stress {
           val why = if (run.stopped) s"not finished within --max-cycles $maxCycles (${s.fold("?")(st => s"${st.queriesCompleted} of ${st.queries} queries complete")})"
             else if (!run.passed) run.failure else "the SO counters differ from the model's"
           println(s"FAIL ${e.label} seed $seed: $why")
-          println(s"reproduce: ${renderCommand(scene, e, g, o, (at - 2000) max 0, at + 10)}")
+          println(s"reproduce: ${renderCommand(scene, e, g, o, (at - 2000) max 0, at + 10, tuning)}")
           fail(s"stress: ${e.label} seed $seed failed after $total passing runs: $why")
         }
         total += 1

@@ -33,6 +33,11 @@ class StressSpec extends AnyFunSuite {
   test("configuration entries parse with an optional format; bad ones are one clear error") {
     assert(StressCommand.parseEntries("1/1/1, 2/2/2:fp16").map(_.label) == Seq("1/1/1", "2/2/2:e5m10"))
     assert(intercept[MapmError](StressCommand.parseEntries("1/1/1:fp16:x")).getMessage.contains("'1/1/1:fp16:x'"))
+    // A banked run replays with its banks; a bad count is refused before any work.
+    val banked = mapm.pipeline.Stress.renderCommand("s.json", StressCommand.parseEntries("3/3/2").head, 3, mapm.pipeline.Stress.draw(4, 1000000),
+      0, 1, mapm.pipeline.Tuning(sopL2Banks = Some(8)))
+    assert(banked.contains(" --tsm 3 --som 3 --soa 2 --g 3 --sop-l2-banks 8 "), banked)
+    assert(intercept[MapmError](StressCommand.run(Seq("--sop-l2-banks", "3"))).getMessage.contains("--sop-l2-banks"))
   }
 
   test("three seeds of 2/1/3 pass, and render replays seed 2 cycle for cycle") {
