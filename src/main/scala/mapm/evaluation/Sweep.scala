@@ -59,7 +59,7 @@ object Sweep {
     val clockGHz = cost.map(_.clockGHz).getOrElse(fixedClock.getOrElse(s.harness.clockGhz))
     cost.foreach(c => println(f"cost: ${c.soa.top} ${c.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${c.soa.fmaxGHz}%.3f GHz; ${c.tsa.top} " +
       f"${c.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${c.tsa.fmaxGHz}%.3f GHz; clock ${c.clockGHz}%.3f GHz (${c.clockSource})"))
-    val name = work.getFileName.toString.stripSuffix("-rtl")
+    val name = RtlRun.frameName(s.scene, s.arith)
     val outDir = Paths.get(s.out)
     Files.createDirectories(outDir)
     val csv = outDir.resolve(s"$name-sweep.csv")

@@ -55,6 +55,13 @@ object RtlRun {
 
   private def secs(t0: Long): Double = (System.nanoTime() - t0) / 1e9
 
+  /** The name of a frame's files: the scene's, with `-conv` for the conventional arithmetic. */
+  def frameName(scene: String, arith: Arith): String =
+    ModelRun.sceneName(Paths.get(scene)) + (if (arith == Arith.Online) "" else "-conv")
+
+  /** The folder of a frame's files under `outDir`: `<frame name>-rtl`. */
+  def workDir(scene: String, arith: Arith, outDir: String): Path = Paths.get(outDir).resolve(s"${frameName(scene, arith)}-rtl")
+
   /** Loads `scene`, resolves its number format once (`format`, else the scene's, else fp32), makes
     * the configurations `configs` (TSM/SOM/SOA) in it with `g` guard digits, arithmetic `arith`
     * and memory records in `layout`, sized by `tuning`, then runs the model side once; files go to
@@ -71,8 +78,8 @@ object RtlRun {
     import scala.concurrent.ExecutionContext.Implicits.global
     val builds = prebuild.toSeq.flatMap { case (trace, threads) => params.map(p => p -> Future(build(p, trace, threads, log))) }.toMap
     val frame = Frame.prepare(config, fmt, threads)
-    val name = ModelRun.sceneName(Paths.get(scene)) + (if (arith == Arith.Online) "" else "-conv")
-    val work = Paths.get(outDir).resolve(s"$name-rtl")
+    val name = frameName(scene, arith)
+    val work = workDir(scene, arith, outDir)
     Files.createDirectories(work)
     val t0 = System.nanoTime()
     val image = work.resolve("image.bin")

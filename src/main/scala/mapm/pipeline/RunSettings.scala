@@ -1,6 +1,6 @@
 package mapm.pipeline
 
-import java.nio.file.{Path, Paths}
+import java.nio.file.Path
 
 import mapm.format.SlotLayout
 import mapm.model.QueryOrder
@@ -40,8 +40,7 @@ final case class RunSettings(
 
   /** The run's work folder under [[out]], as [[RtlRun.setup]] names it: `<scene>-rtl`, or
     * `<scene>-conv-rtl` for the conventional arithmetic. */
-  def workDir: Path =
-    Paths.get(out).resolve(ModelRun.sceneName(Paths.get(scene)) + (if (arith == Arith.Online) "" else "-conv") + "-rtl")
+  def workDir: Path = RtlRun.workDir(scene, arith, out)
 
   /** The text of these settings for a run archive's key, on the scene file `scene` as named
     * relative to the checkout: everything but the output folder and the worker threads. */
