@@ -7,7 +7,7 @@ import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.cost._
 import mapm.numerics.{Arith, FloatFormat}
-import Args.{ArithReader, FloatFormatReader}
+import Args.{ArithReader, FloatFormatReader, hwOptionsParser}
 
 /** `mapm cost`: clock, area and power of one unit (`--unit`) or of a whole MAPM configuration
   * (`--tsm --som --soa`), through the open flow of docs/cost.md: yosys synthesis to a Liberty
@@ -40,7 +40,8 @@ object CostCommand extends Command {
       @arg(doc = "operations from: frame (the scene's SOs / TS ops; mul and div always take random digits) or random (seeded bit patterns)") stimulus: String = "frame",
       @arg(doc = "scene whose operations drive the simulation") scene: String = "test-scenes/cornell-box/scene.json",
       @arg(doc = "seed of the valid pattern and of random operations") seed: Long = 1,
-      @arg(doc = "output directory") out: String = "out/cost"
+      @arg(doc = "output directory") out: String = "out/cost",
+      hw: HwOptions
   ): Int = {
     Args.checkSeed(seed)
     val clocks = CostFlow.parseClocks(clock)
@@ -54,7 +55,7 @@ object CostCommand extends Command {
     libPath.foreach(p => MapmError.check(Files.isRegularFile(p), s"cost: Liberty file $p not found"))
     MapmError.check(!compare.value || unit.forall(u => u == "soa" || u == "tsa"),
       "cost: --compare needs --unit soa or --unit tsa, or --tsm/--som/--soa for the whole MAPM")
-    val run = CostRun(format, g, fpuWeight, libPath, clocks, abc, ops, stimulus == "frame", scene, seed, Paths.get(out))
+    val run = CostRun(format, g, fpuWeight, libPath, clocks, abc, ops, stimulus == "frame", scene, seed, Paths.get(out), hw.tuning)
     (unit, counts.flatten) match {
       case (Some(u), Seq()) if compare.value => run.compareUnits(u); 0
       case (Some(u), Seq()) => run.unit(u, arith); 0

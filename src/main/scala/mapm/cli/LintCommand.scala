@@ -1,13 +1,13 @@
 package mapm.cli
 
-import mapm.pipeline.Configure
+import mapm.pipeline.{Configure, Tuning}
 
 import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.numerics.FloatFormat
-import mapm.params.MapmParams
+import mapm.params.{Hierarchy, MapmParams}
 import mapm.sim.{Harness, Lint, MapmRtl}
-import Args.FloatFormatReader
+import Args.{FloatFormatReader, HierarchyReader}
 
 /** `mapm lint`: emits whole MAPMs (cached, as `render` does) and lints each with Verilator
   * (`--lint-only -Wall`). Prints each configuration's verdict and its first warnings; exit 0 only
@@ -20,11 +20,12 @@ object LintCommand extends Command {
   def lint(
       @arg(doc = "configurations TSM/SOM/SOA, comma separated (default: the 24 presets of Table 4.8)") configs: Option[String] = None,
       @arg(doc = "number format") format: FloatFormat = FloatFormat.fp32,
-      @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3
+      @arg(name = "g", doc = "guard digits of the SOA's online units") g: Int = 3,
+      @arg(doc = "memory hierarchy: scalable or table4.2 (docs/uncore.md)") hierarchy: Hierarchy = Hierarchy.Scalable
   ): Int = {
     val list = configs.map(SweepCommand.parseConfigs).getOrElse(MapmParams.table48Configs)
     MapmError.check(list.nonEmpty, "lint: no configurations given")
-    val params = list.map { case (t, s, a) => Configure.of(t, s, a, format, g) }
+    val params = list.map { case (t, s, a) => Configure.of(t, s, a, format, g, tuning = Tuning(hierarchy = hierarchy)) }
     val t0 = System.nanoTime()
     val dirty = params.flatMap { p =>
       val t1 = System.nanoTime()

@@ -48,15 +48,15 @@ object StressCommand extends Command {
       @arg(doc = "fail a run that has not finished after this many cycles") maxCycles: Long = 5000000,
       @arg(doc = "output folder") out: String = "out",
       @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads,
-      @arg(name = "sop-l2-banks", doc = "SOP L2 banks of every configuration: 1 is one shared cache (Table 4.2's), 2 .. 64 address-interleaved banks (docs/uncore.md)") sopL2Banks: Int = 1
+      @arg(name = "sop-l2-banks", doc = "SOP L2 banks of every configuration: 1 is one shared cache (Table 4.2's), 2 .. 64 address-interleaved banks (default: the scalable hierarchy's, one per four SOP L1 banks; docs/uncore.md)") sopL2Banks: Option[Int] = None
   ): Int = {
     MapmError.check(seeds >= 1 && seeds <= 1000000, s"stress: --seeds must be 1..1000000, got $seeds")
     MapmError.check(firstSeed >= 0, s"stress: --first-seed must be at least 0, got $firstSeed")
     MapmError.check(maxCycles >= 1000, s"stress: --max-cycles must be at least 1000, got $maxCycles")
     val entries = parseEntries(configs)
     MapmError.check(entries.nonEmpty, "stress: no configurations given")
-    val tuning = mapm.pipeline.Tuning(sopL2Banks = if (sopL2Banks == 1) None else Some(sopL2Banks))
-    mapm.pipeline.Configure.sopL2Structure(sopL2Banks) // a bad count fails before any work
+    sopL2Banks.foreach(mapm.pipeline.Configure.l2Structure("sop-l2-banks", _)) // a bad count fails before any work
+    val tuning = mapm.pipeline.Tuning(sopL2Banks = sopL2Banks)
     Stress.run(scene, entries, g, seeds, firstSeed, maxCycles, Paths.get(out), threads, tuning)
     0
   }

@@ -6,6 +6,7 @@ import mapm.cost._
 import mapm.sim.Emit
 import mapm.params.MapmParams
 import mapm.top.Mapm
+import mapm.util.CostBlock
 
 /** The cost of a whole MAPM configuration, two ways side by side (docs/cost.md):
   *
@@ -35,19 +36,16 @@ object ConfigCost {
     val source = "6T bit cell of 5.59 um^2 (Intel 180 nm logic process, IEDM 1998) at 70 % array efficiency; power not modelled"
   }
 
-  private def block(chain: Seq[String]): String =
-    chain.reverseIterator.collectFirst {
-      case m if m.startsWith("ROCache") => "caches"
-      case m if m.startsWith("MemArbiter") => "arbiter"
-      case m if m.startsWith("TsBlock") => "TS block"
-      case m if m.startsWith("SoBlock") => "SO block"
-    }.getOrElse("top")
-
   /** The design synthesized for method (b): its top, module hierarchy and SRAM arrays, each
     * module's own cells, every instance path under the top, each module's instance count, the
     * synthesis result and its seconds. */
   private final case class Synthesized(top: String, hier: Hierarchy, mems: Seq[String], own: Map[String, ModuleCells.Own],
-                                       paths: Seq[Seq[String]], inst: Map[String, Long], result: Synthesis.Result, seconds: Double)
+                                       paths: Seq[Seq[String]], inst: Map[String, Long], result: Synthesis.Result, seconds: Double,
+                                       tags: Map[String, CostBlock]) {
+    /** The cost block of the instance at the end of `chain` (the tag its module or the nearest
+      * module above it got at elaboration); an untagged module under the top is an error. */
+    def block(chain: Seq[String]): String = CostBlock.of(chain, tags).fold(mapm.MapmError.fail, _.name)
+  }
 
   /** Method (a) at clock `clk`: unit figures times counts; dynamic power scales with the clock at a
     * fixed activity per cycle. */
@@ -62,7 +60,7 @@ object ConfigCost {
   private def synthesize(flow: CostFlow, p: MapmParams, dir: Path, log: String => Unit): Synthesized = {
     val top = s"Mapm_${p.name}"
     log(s"emitting $top for synthesis ...")
-    val sv = Emit.toFile(new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true)
+    val (sv, tags) = CostBlock.collect(Emit.toFile(new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true))
     val hier = Hierarchy.parse(new String(Files.readAllBytes(sv), StandardCharsets.UTF_8))
     val mems = hier.memories.keys.toSeq.sorted
     val blocksOf = hier.children(top).distinct.filterNot(mems.contains)
@@ -81,7 +79,7 @@ object ConfigCost {
       walk(Seq(top)); out.toSeq
     }
     val inst = paths.groupBy(_.last).map { case (m, ps) => m -> ps.size.toLong }
-    Synthesized(top, hier, mems, own, paths, inst, syn.head, synSecs)
+    Synthesized(top, hier, mems, own, paths, inst, syn.head, synSecs, tags)
   }
 
   /** OpenSTA's timing and power of every module of `d` at the flow's clocks and `meanActivity`:
@@ -110,10 +108,10 @@ object ConfigCost {
   /** Method (b)'s figures from the synthesized design `d` and its `analyses`: fmax, logic area,
     * power at each clock, each by block, and the SRAM arrays' bits and modelled area. */
   private def methodB(d: Synthesized, analyses: Seq[(Analysis, Sta.Report)], clocks: Seq[Double], meanActivity: Double): ujson.Obj = {
-    import d.{own, paths, mems, hier}
+    import d.{own, paths, mems, hier, block}
     val fmaxB = analyses.map(_._1.fmaxGHz).min
     val slowest = analyses.minBy(_._1.fmaxGHz)._1
-    val blocks = Seq("TS block", "SO block", "caches", "arbiter", "top")
+    val blocks = CostBlock.all.map(_.name)
     val areaBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.areaUm2).getOrElse(0.0)).sum }
     val seqBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.seqAreaUm2).getOrElse(0.0)).sum }
     val sramBy = paths.filter(c => mems.contains(c.last)).groupBy(block).map { case (b, ps) => b -> ps.map(c => hier.memoryBits(c.last)).sum }

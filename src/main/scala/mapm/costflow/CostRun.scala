@@ -26,9 +26,10 @@ import mapm.sim.Harness
   * @param scene     the scene whose operations drive the simulation, and which the MAPMs render
   * @param seed      seed of the valid pattern and of random operations
   * @param out       output folder
+  * @param tuning    the memory hierarchy and sizes of the whole MAPMs it costs or renders
   */
 final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Option[Path], clocks: Seq[Double], abc: String,
-                         ops: Int, fromFrame: Boolean, scene: String, seed: Long, out: Path) {
+                         ops: Int, fromFrame: Boolean, scene: String, seed: Long, out: Path, tuning: Tuning = Tuning()) {
   private lazy val frameOps = CostFlow.frame(scene, format)
   private def log(s: String): Unit = System.err.println(s"cost: $s")
 
@@ -58,7 +59,7 @@ final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Op
   /** The whole MAPM `counts` (TSM/SOM/SOA) in arithmetic `arith` ([[ConfigCost]]): its SOA and TSA
     * through the flow, then the configuration; cost.json and cost.md. */
   def config(counts: (Int, Int, Int), arith: Arith): ujson.Obj = {
-    val base0 = Configure.of(counts._1, counts._2, counts._3, format, g, arith = arith)
+    val base0 = Configure.of(counts._1, counts._2, counts._3, format, g, arith = arith, tuning = tuning)
     val params = base0.copy(numbers = base0.numbers.copy(fpuStageWeight = fpuWeight))
     val frame = if (fromFrame) Some(frameOps) else None
     val source = if (fromFrame) s"SOs/TS ops of $scene" else s"random (seed $seed)"
@@ -91,7 +92,7 @@ final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Op
       val (soaCost, tsaCost) = (unit("soa", a, dir.resolve("soa")), unit("tsa", a, dir.resolve("tsa")))
       log(s"rendering $scene through the $a $label MAPM ...")
       val settings = RunSettings(scene, Some(format), SlotLayout.Packed, g, a, Fidelity.Full, Harness.RunOptions(), dir.toString,
-        Parallel.defaultThreads, Tuning())
+        Parallel.defaultThreads, tuning)
       val RtlRun.Setup(Seq(p), prep) = settings.setup(Seq(counts))
       val run = RtlRun.runConfig(prep, p, settings.harness, prep.work, l => System.err.println(s"mapm: $l"))
       val s = run.outcome.stats.getOrElse(MapmError.fail(s"cost: the $a render wrote no statistics (${run.failure})"))

@@ -2,6 +2,7 @@ package mapm.memory
 
 import chisel3._
 import chisel3.util._
+import mapm.util.CostBlock
 
 /** One set of the tag array: a valid bit and a tag per way, and the set's pseudo-LRU state. */
 class TagRow(cfg: CacheConfig) extends Bundle {
@@ -56,6 +57,7 @@ class CacheCounters(bits: Int) extends Bundle {
   */
 class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   override def desiredName = cfg.name
+  CostBlock.tag(this, CostBlock.Caches)
   private val respDepth = 3
   private val setW = cfg.setBits max 1
 

@@ -155,7 +155,7 @@ object L2Structure {
   /** `banks` address-interleaved caches (line address mod `banks`), each a quarter, an eighth ... of
     * the capacity, each taking one request a cycle. */
   final case class Banked(banks: Int) extends L2Structure(s"banked$banks") {
-    require(banks >= 2 && banks <= Banked.MaxBanks && isPow2(banks), s"SOP L2 banks must be a power of two 2..${Banked.MaxBanks}, got $banks")
+    require(banks >= 2 && banks <= Banked.MaxBanks && isPow2(banks), s"L2 banks must be a power of two 2..${Banked.MaxBanks}, got $banks")
   }
   object Banked {
     val MaxBanks = 64
@@ -164,8 +164,49 @@ object L2Structure {
 
 /** The memory system between the blocks' L1s and the memory port (mapm.uncore). */
 final case class UncoreParams(
+    tsL2: L2Structure = L2Structure.Shared, // the TS L2: one shared cache, or address-interleaved banks
     sopL2: L2Structure = L2Structure.Shared // the SOP L2: one shared cache, or address-interleaved banks
 )
+
+/** The memory hierarchy a configuration is built with: the dissertation's (Table 4.2: one shared
+  * TS L2 and one shared SOP L2, each taking one request a cycle, a direct-mapped SOQ cache) or
+  * this project's scalable one (docs/uncore.md: the SOP L2 in address-interleaved banks, one per
+  * four SOP L1 banks, and a 4-way SOQ cache), which keeps a 16/16/2 busy once the photon map no
+  * longer fits its SOP L1s. Both keep Table 4.2's capacities and line sizes. */
+sealed abstract class Hierarchy(name: String) extends mapm.Choice(name) {
+  /** The SOQ cache's geometry. */
+  def soq: CacheParams
+  /** The L2 structures for module counts `c` and an SOP L2 of geometry `sopL2`. */
+  def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams
+  /** `p` with this hierarchy's L2 structures and SOQ geometry, for `p`'s module counts and SOP L2. */
+  def apply(p: MapmParams): MapmParams =
+    p.copy(caches = p.caches.copy(soq = soq), uncore = uncore(p.counts, p.caches.sopL2))
+}
+object Hierarchy extends mapm.Choices[Hierarchy] {
+  case object Table42 extends Hierarchy("table4.2") {
+    val soq: CacheParams = CachesParams().soq
+    def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams = UncoreParams()
+  }
+  case object Scalable extends Hierarchy("scalable") {
+    /** The SOQ cache: Table 4.2's capacity and line, 4-way. Every query record is read once, out of
+      * order when the host streams its queries in Morton order; a direct-mapped SOQ stalls its
+      * lookup whenever a read's set still waits for another record (docs/uncore.md). */
+    val soq: CacheParams = CacheParams(16 * 1024, 32, 4)
+    /** SOP L2 banks: one per four SOP L1 banks, rounded down to a power of two (so shared below
+      * eight SOP L1 banks), at most [[L2Structure.Banked.MaxBanks]] and at most what the SOP L2's
+      * geometry `g` splits into (two lines and a set a bank). */
+    def sopL2Banks(c: ModuleCounts, g: CacheParams): Int = {
+      val want = math.min(L2Structure.Banked.MaxBanks, Integer.highestOneBit(math.max(1, c.som * c.soaPerSom / 4)))
+      Iterator.iterate(want)(_ / 2).find(n => n == 1 || (g.lines / n >= 2 && (g.fullyAssociative || g.sets >= n))).get
+    }
+    def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams = {
+      val n = sopL2Banks(c, sopL2)
+      UncoreParams(sopL2 = if (n == 1) L2Structure.Shared else L2Structure.Banked(n))
+    }
+  }
+  val all: Seq[Hierarchy] = Seq(Scalable, Table42)
+  protected def unknown(s: String): String = s"memory hierarchy must be ${all.mkString(" or ")}, got '$s'"
+}
 
 /** Clock gating, which saves the power of idle logic in silicon and its evaluation in Verilator. */
 final case class ClockingParams(
@@ -205,8 +246,9 @@ final case class MapmParams(
   require(caches.sopL1.lineBytes >= records.photon.bytes,
     s"SOP L1 line of ${caches.sopL1.lineBytes} bytes is shorter than a ${records.photon.bytes}-byte photon record ($slotBytes-byte slots)")
   require(caches.sopL1.lineBytes <= caches.sopL2.lineBytes, "SOP L1 line must not be longer than the SOP L2 line")
-  require(caches.sopL2.lines / uncore.sopL2.banks >= 2 && (caches.sopL2.fullyAssociative || caches.sopL2.sets >= uncore.sopL2.banks),
-    s"SOP L2 of ${caches.sopL2.describe} cannot be split into ${uncore.sopL2.banks} banks: each needs two lines and a set of its own")
+  for ((name, g, l2) <- Seq(("TS L2", caches.tsL2, uncore.tsL2), ("SOP L2", caches.sopL2, uncore.sopL2)))
+    require(g.lines / l2.banks >= 2 && (g.fullyAssociative || g.sets >= l2.banks),
+      s"$name of ${g.describe} cannot be split into ${l2.banks} banks: each needs two lines and a set of its own")
   require(queues.registerQueueDepth >= indices.nodeBits + 4,
     s"Register queue depth ${queues.registerQueueDepth} must exceed the tree-depth reserve: at least ${indices.nodeBits + 4} for ${indices.nodeBits}-bit node indices")
   require(queues.rsEntries % counts.soaPerSom == 0 && queues.rsEntries / counts.soaPerSom >= SoGroup.Size,
@@ -223,12 +265,10 @@ final case class MapmParams(
     g.copy(sizeBytes = size)
   }
 
-  /** Geometry of one SOP L2 bank ([[UncoreParams.sopL2]]; the whole SOP L2 when shared): 1/banks
-    * of the capacity, fully associative when the SOP L2 is, else the same ways over 1/banks of the sets. */
-  def sopL2Bank: CacheParams = {
-    val (g, n) = (caches.sopL2, uncore.sopL2.banks)
-    g.copy(sizeBytes = g.sizeBytes / n, ways = if (g.fullyAssociative) g.lines / n else g.ways)
-  }
+  /** Geometry of one TS L2 bank ([[UncoreParams.tsL2]]; the whole TS L2 when shared). */
+  def tsL2Bank: CacheParams = MapmParams.l2Bank(caches.tsL2, uncore.tsL2)
+  /** Geometry of one SOP L2 bank ([[UncoreParams.sopL2]]; the whole SOP L2 when shared). */
+  def sopL2Bank: CacheParams = MapmParams.l2Bank(caches.sopL2, uncore.sopL2)
 
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
     * wide layout gives the format larger slots than the packed one, the FPU logic per stage
@@ -242,17 +282,23 @@ final case class MapmParams(
     val conv = if (numbers.arith == Arith.Conventional) "_conv" else ""
     val timing = if (sim.fidelity == Fidelity.Timing) "_timing" else ""
     val gate = if (clocking.soaClockGate) "" else "_nocg"
-    val banks = uncore.sopL2 match { case L2Structure.Shared => ""; case L2Structure.Banked(n) => s"_b$n" }
-    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate$banks"
+    def banks(l2: L2Structure, tag: String) = l2 match { case L2Structure.Shared => ""; case L2Structure.Banked(n) => s"_$tag$n" }
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate${banks(uncore.sopL2, "b")}${banks(uncore.tsL2, "tb")}"
   }
 }
 
 /** The presets, each a `.copy` of the one above it: the dissertation's MAPM, Table 4.8's
-  * configurations of it, and the small MAPM that the tests share. */
+  * configurations of it, the small MAPM that the tests share, and the default: the dissertation's
+  * MAPM with the scalable memory hierarchy ([[Hierarchy.Scalable]]). */
 object MapmParams {
+  /** One bank of an L2 of geometry `g` built as `l2`: 1/banks of the capacity, fully associative
+    * when `g` is, else the same ways over 1/banks of the sets (the whole L2 when shared). */
+  def l2Bank(g: CacheParams, l2: L2Structure): CacheParams =
+    g.copy(sizeBytes = g.sizeBytes / l2.banks, ways = if (g.fullyAssociative) g.lines / l2.banks else g.ways)
+
   /** The dissertation's MAPM (sections 3.2 and 4.1): 16 TSMs, 16 SOMs of 2 SOAs, fp32 with the
     * online arithmetic, Table 4.2's caches, 8 reservation-station entries per SOA. Every field's
-    * default is this preset's, and it is every command's default configuration. */
+    * default is this preset's. */
   val dissertation: MapmParams = MapmParams()
 
   /** A configuration of Table 4.8 (TSMs/SOMs/SOAs per SOM): the dissertation's MAPM with these
@@ -270,11 +316,12 @@ object MapmParams {
   val presets: Map[String, MapmParams] =
     table48Configs.map { case (t, s, a) => s"$t/$s/$a" -> table48(t, s, a) }.toMap
 
-  /** The default configuration: the dissertation's 16/16/2 at fp32, its best throughput per area. */
-  val default: MapmParams = dissertation
+  /** The default configuration, every command's: the dissertation's 16/16/2 at fp32 (its best
+    * throughput per area) with the scalable memory hierarchy. */
+  val default: MapmParams = Hierarchy.Scalable(dissertation)
 
   /** The small MAPM the tests share: one TSM and one SOM with one SOA (1/1/1), the rest the
-    * dissertation's; it elaborates and simulates in seconds, and it is what `--tsm 1 --som 1
-    * --soa 1` gives. */
-  val small: MapmParams = table48(1, 1, 1)
+    * dissertation's, with the scalable hierarchy (for 1/1/1: a shared SOP L2 and a 4-way SOQ); it
+    * elaborates and simulates in seconds, and it is what `--tsm 1 --som 1 --soa 1` gives. */
+  val small: MapmParams = Hierarchy.Scalable(table48(1, 1, 1))
 }

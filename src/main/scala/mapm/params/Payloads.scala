@@ -47,6 +47,24 @@ object SoGroup {
   /** Shader operations in a group, at most: a tree-search operation's left child, right child
     * and current node. */
   val Size = 3
+
+  /** The SOM lane (SOA, SOP L1 bank) of a photon: its index mod `a` (the low bits for a power of
+    * two, else the remainder digit by digit from the top: r = (2 r + bit) mod a, one
+    * compare-subtract a bit). */
+  def lane(photon: UInt, a: Int): UInt =
+    if (a == 1) 0.U
+    else if (isPow2(a)) photon(log2Ceil(a) - 1, 0)
+    else {
+      val w = log2Ceil(a)
+      (photon.getWidth - 1 to 0 by -1).foldLeft(0.U(w.W)) { (r, i) =>
+        val x = Cat(r, photon(i))
+        Mux(x >= a.U, x - a.U, x)(w - 1, 0)
+      }
+    }
+
+  /** How many of `g`'s SOs go to each of `a` lanes. */
+  def needs(g: SoGroup, a: Int): Seq[UInt] =
+    (0 until a).map(b => PopCount(g.photon.map(ph => ph.valid && lane(ph.bits, a) === b.U)))
 }
 
 /** The result of one shader operation: colour bits and flags per channel (OVF 1, UNF 2, INV 4),
@@ -76,11 +94,11 @@ class MapmCounters extends Record with scala.Dynamic {
 
 object MapmCounters {
   /** The counters' names, in port order. `rqPeak` is the largest occupancy any TSM's Register-queue
-    * bank reached (the overflow rule's witness); `sopL2_conflicts` the SOP L1 misses' cycles of
-    * waiting on an SOP L2 bank that took another miss ([[mapm.uncore.SopL2]]). */
+    * bank reached (the overflow rule's witness); `tsL2_conflicts` and `sopL2_conflicts` the L1
+    * misses' cycles of waiting on an L2 bank that took another L1's miss ([[mapm.uncore.L2]]). */
   val Names: Seq[String] = Seq("cycles", "queries", "tsOps", "soIssued", "soPassed", "stallNodeData", "stallRsFull",
     "stallRqFull", "stallQuery", "tsL1_hits", "tsL1_misses", "tsL2_hits", "tsL2_misses", "soq_hits", "soq_misses",
-    "sopL1_hits", "sopL1_misses", "sopL2_hits", "sopL2_misses", "bytesFetched", "rqPeak", "sopL2_conflicts")
+    "sopL1_hits", "sopL1_misses", "sopL2_hits", "sopL2_misses", "bytesFetched", "rqPeak", "sopL2_conflicts", "tsL2_conflicts")
 
   /** What each counter counts. The TSMs' stalls are summed over the TSMs, one per TSM and cycle
     * (TSM-cycles): with 16 TSMs `stallRsFull` can reach 16 times `cycles`. A cache's hits and
@@ -88,7 +106,7 @@ object MapmCounters {
   val Units: Map[String, String] = Map(
     "cycles" -> "cycles", "queries" -> "queries", "tsOps" -> "operations", "soIssued" -> "operations", "soPassed" -> "operations",
     "stallNodeData" -> "TSM-cycles", "stallRsFull" -> "TSM-cycles", "stallRqFull" -> "TSM-cycles", "stallQuery" -> "cycles",
-    "bytesFetched" -> "bytes", "rqPeak" -> "entries", "sopL2_conflicts" -> "requester-cycles") ++
+    "bytesFetched" -> "bytes", "rqPeak" -> "entries", "sopL2_conflicts" -> "requester-cycles", "tsL2_conflicts" -> "requester-cycles") ++
     Seq("tsL1", "tsL2", "soq", "sopL1", "sopL2").flatMap(c => Seq(s"${c}_hits" -> "accesses", s"${c}_misses" -> "accesses"))
   require(Units.keySet == Names.toSet, s"every counter needs a unit: ${Names.filterNot(Units.contains)}")
 }

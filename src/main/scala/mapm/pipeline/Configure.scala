@@ -55,9 +55,10 @@ object CacheSpec {
   }
 }
 
-/** The sizes Table 4.2 and the design space vary, as the command line overrides them (`--rq-depth`,
-  * `--rs-entries`, `--ts-l1` ... `--sop-l2`, `--mem-outstanding`); each absent one keeps
-  * [[Configure.of]]'s default. */
+/** The memory hierarchy and the sizes Table 4.2 and the design space vary, as the command line
+  * gives them (`--hierarchy`, `--rq-depth`, `--rs-entries`, `--ts-l1` ... `--sop-l2`,
+  * `--mem-outstanding`, `--ts-l2-banks`, `--sop-l2-banks`); each absent size keeps the
+  * hierarchy's. */
 final case class Tuning(
     registerQueueDepth: Option[Int] = None, // entries of each TSM's Register-queue bank
     rsEntries: Option[Int] = None,          // reservation-station entries per SOM
@@ -68,7 +69,9 @@ final case class Tuning(
     sopL2: CacheSpec = CacheSpec(),         // SOP L2 geometry
     memOutstanding: Option[Int] = None,     // requests in flight on the memory port
     soaClockGate: Boolean = true,           // gate each SOA's clock while it holds no operation
-    sopL2Banks: Option[Int] = None          // SOP L2 banks (1: one shared cache, Table 4.2's)
+    sopL2Banks: Option[Int] = None,         // SOP L2 banks (1: one shared cache, Table 4.2's)
+    tsL2Banks: Option[Int] = None,          // TS L2 banks (1: one shared cache, Table 4.2's)
+    hierarchy: Hierarchy = Hierarchy.Scalable // the memory hierarchy the sizes start from
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
@@ -76,32 +79,38 @@ final case class Tuning(
     registerQueueDepth.map(d => s"rq-depth=$d").toSeq ++ rsEntries.map(r => s"rs-entries=$r") ++
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
       memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate")) ++
-      sopL2Banks.map(b => s"sop-l2-banks=$b")
+      sopL2Banks.map(b => s"sop-l2-banks=$b") ++ tsL2Banks.map(b => s"ts-l2-banks=$b") ++
+      (if (hierarchy == Hierarchy.Scalable) None else Some(s"hierarchy=$hierarchy"))
   }
 
-  /** The sizes given, in a phrase for a log or a report: Table 4.2's when none. */
-  def summary: String =
-    if (describe.isEmpty) "caches and queues as Table 4.2 (the defaults)" else s"sizes ${describe.mkString(", ")}, the rest as Table 4.2"
+  /** The hierarchy and the sizes given, in a phrase for a log or a report. */
+  def summary: String = {
+    val h = s"the $hierarchy memory hierarchy${if (hierarchy == Hierarchy.Table42) "" else " (docs/uncore.md)"}"
+    val sizes = describe.filterNot(_.startsWith("hierarchy="))
+    if (sizes.isEmpty) s"$h, Table 4.2's capacities" else s"$h with ${sizes.mkString(", ")}"
+  }
 }
 
 /** A MAPM configuration made from what a command line gives: counts, format, guard digits, layout,
   * arithmetic, fidelity and the sizes it overrides ([[Tuning]]). */
 object Configure {
-  /** The SOP L2 of `--sop-l2-banks n`: shared for 1, else `n` banks; a [[mapm.MapmError]] naming
-    * the option for a count the hardware does not build. */
-  def sopL2Structure(n: Int): L2Structure =
+  /** The L2 of `--ts-l2-banks n` or `--sop-l2-banks n` (`flag`): shared for 1, else `n` banks; a
+    * [[mapm.MapmError]] naming the option for a count the hardware does not build. */
+  def l2Structure(flag: String, n: Int): L2Structure =
     if (n == 1) L2Structure.Shared
     else try L2Structure.Banked(n)
-    catch { case e: IllegalArgumentException => mapm.MapmError.fail(s"--sop-l2-banks: ${e.getMessage.stripPrefix("requirement failed: ")}") }
+    catch { case e: IllegalArgumentException => mapm.MapmError.fail(s"--$flag: ${e.getMessage.stripPrefix("requirement failed: ")}") }
 
   /** The configuration a command line asks for: module counts, format, guard digits and memory
-    * layout, and the sizes `tuning` overrides (queues, caches, the memory port); everything else as [[MapmParams.table48]] sizes it, with every
+    * layout, the memory hierarchy `tuning` names and the sizes it overrides (queues, caches, L2
+    * banks, the memory port); everything else as [[MapmParams.table48]] sizes it, with every
     * cache line at least as long as the record it holds (a 64-byte photon record of 8-byte slots
     * takes 64-byte SOP L1 lines). A broken constraint is a one-line [[mapm.MapmError]] naming
     * it, not an exception. */
   def of(tsm: Int, som: Int, soa: Int, format: FloatFormat, g: Int, layout: SlotLayout = SlotLayout.Packed,
          arith: Arith = Arith.Online, fidelity: Fidelity = Fidelity.Full, tuning: Tuning = Tuning()): MapmParams =
     try {
+      val h = tuning.hierarchy
       val base = MapmParams.table48(tsm, som, soa)
       val r = new Records(layout.slotBytes(format))
       // A default line too short for its record grows to fit; a line the user gave is checked as given.
@@ -113,15 +122,21 @@ object Configure {
         } catch { case e: IllegalArgumentException => throw new IllegalArgumentException(s"--$flag: ${e.getMessage.stripPrefix("requirement failed: ")}") }
       val c = base.caches
       val t = tuning
+      val sopL2 = fit("sop-l2", c.sopL2, t.sopL2, 0)
       base.copy(
         numbers = NumberParams(format, g, arith = arith),
         memory = base.memory.copy(layout = layout, maxOutstanding = t.memOutstanding.getOrElse(base.memory.maxOutstanding)),
         sim = SimParams(fidelity),
         clocking = ClockingParams(t.soaClockGate),
-        uncore = base.uncore.copy(sopL2 = t.sopL2Banks.map(sopL2Structure).getOrElse(base.uncore.sopL2)),
+        uncore = {
+          // The hierarchy's L2 structures for the SOP L2 as given, each bank count given in their place.
+          val u = h.uncore(base.counts, sopL2)
+          u.copy(tsL2 = t.tsL2Banks.map(l2Structure("ts-l2-banks", _)).getOrElse(u.tsL2),
+            sopL2 = t.sopL2Banks.map(l2Structure("sop-l2-banks", _)).getOrElse(u.sopL2))
+        },
         caches = CachesParams(tsL1 = fit("ts-l1", c.tsL1, t.tsL1, r.node.bytes), tsL2 = fit("ts-l2", c.tsL2, t.tsL2, 0),
-          soq = fit("soq", c.soq, t.soq, r.queryHwBytes), sopL1 = fit("sop-l1", c.sopL1, t.sopL1, r.photon.bytes),
-          sopL2 = fit("sop-l2", c.sopL2, t.sopL2, 0)),
+          soq = fit("soq", h.soq, t.soq, r.queryHwBytes), sopL1 = fit("sop-l1", c.sopL1, t.sopL1, r.photon.bytes),
+          sopL2 = sopL2),
         queues = base.queues.copy(registerQueueDepth = t.registerQueueDepth.getOrElse(base.queues.registerQueueDepth),
           rsEntries = t.rsEntries.getOrElse(base.queues.rsEntries)))
     } catch {

@@ -5,7 +5,7 @@ import java.nio.file.Path
 import mapm.format.SlotLayout
 import mapm.model.QueryOrder
 import mapm.numerics.{Arith, FloatFormat}
-import mapm.params.Fidelity
+import mapm.params.{Fidelity, Hierarchy}
 import mapm.sim.Harness
 
 /** Everything a run through the RTL is made from, as one value that the command line builds from
@@ -22,8 +22,8 @@ import mapm.sim.Harness
   * @param harness  the harness's memory model, limits and waveform
   * @param out      output folder
   * @param threads  worker threads of the model
-  * @param tuning   hardware sizes given (the rest as Table 4.2)
-  * @param queryOrder the order in which the host streams the queries
+  * @param tuning   the memory hierarchy and the hardware sizes given
+  * @param queryOrder the order in which the host streams the queries ([[RunSettings.defaultOrder]] unless given)
   */
 final case class RunSettings(
     scene: String,
@@ -36,7 +36,7 @@ final case class RunSettings(
     out: String,
     threads: Int,
     tuning: Tuning,
-    queryOrder: QueryOrder = QueryOrder.Host) {
+    queryOrder: QueryOrder = QueryOrder.Morton) {
 
   /** The run's work folder under [[out]], as [[RtlRun.setup]] names it: `<scene>-rtl`, or
     * `<scene>-conv-rtl` for the conventional arithmetic. */
@@ -56,4 +56,14 @@ final case class RunSettings(
   /** Resolves the scene, format and configurations `configs` (TSM/SOM/SOA) and prepares the frame ([[RtlRun.setup]]). */
   def setup(configs: Seq[(Int, Int, Int)], prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => ()): RtlRun.Setup =
     RtlRun.setup(scene, format, g, configs, out, threads, layout, arith, fidelity, tuning, prebuild, log, queryOrder)
+}
+
+object RunSettings {
+  /** The host's query order when none is given: Morton order for the scalable hierarchy (its SOP L1
+    * banks then hold the photons that the queries in flight share; docs/uncore.md), the
+    * renderer's own order for Table 4.2's, as the dissertation's host streamed them. */
+  def defaultOrder(h: Hierarchy): QueryOrder = h match {
+    case Hierarchy.Scalable => QueryOrder.Morton
+    case Hierarchy.Table42  => QueryOrder.Host
+  }
 }

@@ -5,6 +5,7 @@ import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, publi
 import chisel3.util._
 import mapm.memory.{CacheCounters, MemPort}
 import mapm.params.{MapmParams, SoGroup, SoResult}
+import mapm.uncore.Shapes
 
 /** Shader Operation Module (3.5): `soaPerSom` [[SomLane]]s, each an SOA with its part of the
   * reservation station and its bank of the SOP L1. An SO goes to the lane of its photon:
@@ -28,11 +29,11 @@ class Som(p: MapmParams) extends Module {
     val photonBase = Input(UInt(p.memory.addressBits.W))
     val in = Input(Valid(new SoGroup(p)))
     val free = Output(Vec(a, UInt(log2Ceil(p.rsPerSoa + 1).W)))
-    val mem = Vec(a, new MemPort(SomLane.l1Config(p).down))
+    val mem = Vec(a, new MemPort(Shapes(p).sopL1.down))
     val out = Vec(a, Valid(new SoResult(p)))
     val issued = Output(Vec(a, Bool()))
     val idle = Output(Bool())
-    val l1 = Output(Vec(a, new CacheCounters(SomLane.l1Config(p).counterBits)))
+    val l1 = Output(Vec(a, new CacheCounters(Shapes(p).sopL1.counterBits)))
     val error = Output(Bool())
   })
 
@@ -41,7 +42,7 @@ class Som(p: MapmParams) extends Module {
     l.io.photonBase := io.photonBase
     for (k <- 0 until SoGroup.Size) {
       val ph = io.in.bits.photon(k)
-      l.io.insert(k).valid := io.in.valid && ph.valid && Som.lane(ph.bits, a) === b.U
+      l.io.insert(k).valid := io.in.valid && ph.valid && SoGroup.lane(ph.bits, a) === b.U
       l.io.insert(k).bits.query := io.in.bits.query
       l.io.insert(k).bits.photon := ph.bits
     }
@@ -53,23 +54,4 @@ class Som(p: MapmParams) extends Module {
   }
   io.idle := lanes.map(_.io.idle).reduce(_ && _)
   io.error := lanes.map(_.io.error).reduce(_ || _)
-}
-
-object Som {
-  /** The lane (SOA, SOP L1 bank) of a photon: its index mod `a` (the low bits for a power of two,
-    * else the remainder digit by digit from the top: r = (2 r + bit) mod a, one compare-subtract a bit). */
-  def lane(photon: UInt, a: Int): UInt =
-    if (a == 1) 0.U
-    else if (isPow2(a)) photon(log2Ceil(a) - 1, 0)
-    else {
-      val w = log2Ceil(a)
-      (photon.getWidth - 1 to 0 by -1).foldLeft(0.U(w.W)) { (r, i) =>
-        val x = Cat(r, photon(i))
-        Mux(x >= a.U, x - a.U, x)(w - 1, 0)
-      }
-    }
-
-  /** How many of `g`'s SOs go to each of `a` lanes. */
-  def needs(g: SoGroup, a: Int): Seq[UInt] =
-    (0 until a).map(b => PopCount(g.photon.map(ph => ph.valid && lane(ph.bits, a) === b.U)))
 }

@@ -6,7 +6,8 @@ import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{Fidelity, MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
-import mapm.util.{ClockGate, Counters, Index, RoundRobin, Rotate}
+import mapm.uncore.Shapes
+import mapm.util.{ClockGate, Index, RoundRobin}
 
 /** One shader operation waiting in a reservation station: its query and the photon's node index. */
 class SoOp(p: MapmParams) extends Bundle {
@@ -35,7 +36,7 @@ class SomLane(p: MapmParams) extends Module {
   private val w = fmt.width
   private val records = p.records
   private val n = p.rsPerSoa
-  val l1Config: CacheConfig = SomLane.l1Config(p)
+  val l1Config: CacheConfig = Shapes(p).sopL1
   override def desiredName = s"SomLane_${fmt.name}_g${p.numbers.guardDigits}_r$n"
 
   @public val io = IO(new Bundle {
@@ -128,19 +129,4 @@ class SomLane(p: MapmParams) extends Module {
   // clock stops (a gated stage holds values no valid bit points to); it runs in reset, so that
   // its valid bits clear.
   if (p.clocking.soaClockGate) soa.clock := ClockGate(clock, reset.asBool || soa.io.in.valid || inSoa =/= 0.U)
-}
-
-object SomLane {
-  /** One SOP L1 bank: [[MapmParams.sopL1Bank]], one photon record per read, one id per
-    * reservation-station entry, whole lines to the SOP L2. A bank holds the records of index
-    * mod soaPerSom = its lane; with a power-of-two lane count (and one record per line) it is
-    * built interleaved, so that its set index skips the lane bits and every set is used. */
-  def l1Config(p: MapmParams): CacheConfig = {
-    val g = p.sopL1Bank
-    val a = p.counts.soaPerSom
-    val record = p.records.photon.bytes
-    val interleave = if (isPow2(a) && g.lineBytes == record) a else 1
-    CacheConfig(g, wordBytes = record, idBits = Index.bits(p.rsPerSoa), addressBits = p.memory.addressBits, downBytes = g.lineBytes,
-      interleave = interleave)
-  }
 }

@@ -1,7 +1,7 @@
 package mapm.sim
 
 import mapm.params.{MapmCounters, MapmParams}
-import mapm.top.Mapm
+import mapm.uncore.Shapes
 
 /** `mapm_config.h`, the one generated header of the whole-MAPM Verilator harness
   * (tools/harness, docs/harness.md): everything about a configuration that the C++ needs, derived
@@ -17,7 +17,7 @@ object HarnessHeader {
     * the counters ([[MapmCounters.Names]]). tools/harness holds nothing that differs between
     * configurations. */
   def apply(p: MapmParams, topName: String): String = {
-    val mem = Mapm.memParams(p)
+    val mem = Shapes(p).mem
     val fmt = p.numbers.format
     val outs = p.counts.som * p.counts.soaPerSom
     val defs = Seq(

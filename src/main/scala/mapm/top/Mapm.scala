@@ -3,17 +3,18 @@ package mapm.top
 import chisel3._
 import chisel3.util._
 import mapm.params._
-import mapm.memory.{MemArbiter, MemPort, MemPortParams}
+import mapm.memory.{MemPort, MemPortParams}
 import mapm.shader.SoBlock
-import mapm.tsearch.{QueryFetch, TsBlock}
-import mapm.util.{Counters, Index, RoundRobin, Rotate}
+import mapm.tsearch.TsBlock
+import mapm.uncore.{Shapes, Uncore}
+import mapm.util.{CostBlock, Counters}
 
-/** The whole Multi-Accelerator for Photon Mapping (3.2, docs/mapm.md): the Tree Search block
-  * ([[TsBlock]]: query stream, SOQ cache, Launcher, TSMs with TS L1s, TSAs, Nextnode and the
-  * Register queue, TS L2), the Shader Operation block ([[SoBlock]]: Data bus, SOMs with
-  * reservation stations, SOP L1 banks and SOAs, SOP L2), and one memory port shared by the TS L2,
-  * the SOQ cache and the SOP L2 through a [[MemArbiter]] that keeps at most
-  * `memory.maxOutstanding` requests in flight.
+/** The whole Multi-Accelerator for Photon Mapping (3.2, docs/mapm.md), as wiring of three parts:
+  * the Tree Search block ([[TsBlock]]: query stream, SOQ cache, Launcher, TSMs with TS L1s, TSAs,
+  * Nextnode and the Register queue), the Shader Operation block ([[SoBlock]]: SOMs with
+  * reservation stations, SOP L1 banks and SOAs), and the [[Uncore]] between them and memory (TS
+  * L2, SOP L2, the memory arbiter that keeps at most `memory.maxOutstanding` requests in flight on
+  * the one memory port, and the Data bus). Every port shape between them is [[Shapes]]'.
   *
   * The host sets `cfg` before the first query, feeds tree-search instructions on `query`, plays
   * DRAM on `mem` (read only), collects every shader operation's result on `out` (one port per
@@ -28,7 +29,8 @@ import mapm.util.{Counters, Index, RoundRobin, Rotate}
   */
 class Mapm(val p: MapmParams) extends Module {
   override def desiredName = s"Mapm_${p.name}"
-  val memParams: MemPortParams = Mapm.memParams(p)
+  CostBlock.tag(this, CostBlock.Top)
+  val memParams: MemPortParams = Shapes(p).mem
 
   val io = IO(new Bundle {
     val cfg = Input(new MapmConfig(p))
@@ -42,29 +44,29 @@ class Mapm(val p: MapmParams) extends Module {
 
   val ts = Module(new TsBlock(p))
   val so = Module(new SoBlock(p))
+  val uncore = Module(new Uncore(p))
   ts.io.cfg := io.cfg
   so.io.cfg := io.cfg
   ts.io.query <> io.query
-  so.io.in <> ts.io.so
   io.out := so.io.out
 
-  val arb = Module(new MemArbiter(Seq(ts.io.tsMem.p, ts.io.soqMem.p) ++ so.io.mem.map(_.p), p.memory.maxOutstanding))
-  arb.io.up(0) <> ts.io.tsMem
-  arb.io.up(1) <> ts.io.soqMem
-  for ((m, b) <- so.io.mem.zipWithIndex) arb.io.up(2 + b) <> m
-  io.mem <> arb.io.down
+  uncore.io.tsL1 <> ts.io.l1
+  uncore.io.soq <> ts.io.soq
+  uncore.io.sopL1 <> so.io.l1
+  uncore.io.groups <> ts.io.so
+  uncore.io.free := so.io.free
+  so.io.in := uncore.io.som
+  io.mem <> uncore.io.mem
 
-  // Requests outstanding on the memory port (request taken to last beat).
-  val outstanding = RegInit(0.U(log2Ceil(p.memory.maxOutstanding + 1).W))
-  outstanding := outstanding + io.mem.req.fire.asUInt - (io.mem.resp.fire && io.mem.resp.bits.last).asUInt
-  io.done := ts.io.idle && so.io.idle && outstanding === 0.U
+  io.done := ts.io.idle && so.io.idle && uncore.io.idle
   val error = RegInit(false.B)
-  when(ts.io.error || so.io.error || arb.io.protocolError) { error := true.B }
+  when(ts.io.error || so.io.error || uncore.io.protocolError) { error := true.B }
   io.error := error
 
   val c = io.counters
   private val tc = ts.io.counters
   private val sc = so.io.counters
+  private val uc = uncore.io.counters
   c.cycles := Counters.count(Seq(true.B))
   c.queries := Counters.count(Seq(io.query.fire))
   c.tsOps := tc.tsOps
@@ -76,22 +78,16 @@ class Mapm(val p: MapmParams) extends Module {
   c.stallQuery := tc.stallQuery
   c.tsL1_hits := tc.tsL1Hits
   c.tsL1_misses := tc.tsL1Misses
-  c.tsL2_hits := tc.tsL2Hits
-  c.tsL2_misses := tc.tsL2Misses
+  c.tsL2_hits := uc.tsL2.hits
+  c.tsL2_misses := uc.tsL2.misses
+  c.tsL2_conflicts := uc.tsL2.conflicts
   c.soq_hits := tc.soqHits
   c.soq_misses := tc.soqMisses
   c.sopL1_hits := sc.sopL1Hits
   c.sopL1_misses := sc.sopL1Misses
-  c.sopL2_hits := sc.sopL2Hits
-  c.sopL2_misses := sc.sopL2Misses
-  c.sopL2_conflicts := sc.sopL2Conflicts
-  c.bytesFetched := (Counters.count(Seq(io.mem.resp.fire)) << log2Ceil(p.memory.dataBytes))(63, 0)
+  c.sopL2_hits := uc.sopL2.hits
+  c.sopL2_misses := uc.sopL2.misses
+  c.sopL2_conflicts := uc.sopL2.conflicts
+  c.bytesFetched := uc.bytesFetched
   c.rqPeak := tc.rqPeak
-}
-
-object Mapm {
-  /** The shape of the top's memory port: the outer arbiter's shared port over the TS L2, the SOQ
-    * cache and the SOP L2. */
-  def memParams(p: MapmParams): MemPortParams =
-    MemArbiter.downParams(Seq(TsBlock.l2Config(p).down, QueryFetch.soqConfig(p).down) ++ Seq.fill(p.uncore.sopL2.banks)(SoBlock.l2Config(p).down))
 }

@@ -4,7 +4,8 @@ import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{MapmParams, QueryData, QueryHwRecord, QueryIn, Records, Rgb}
-import mapm.util.{Counters, Index, RoundRobin, Rotate}
+import mapm.uncore.Shapes
+import mapm.util.{Index, RoundRobin}
 
 /** The front of the TS block: takes the host's tree-search instructions (query position and
   * index, 3.2) and reads each query's contribution (r, g, b), the first
@@ -25,7 +26,7 @@ class QueryFetch(p: MapmParams) extends Module {
   private val n = p.queues.queryFetches
   private val w = p.numbers.format.width
   private val records = p.records
-  val soqConfig: CacheConfig = QueryFetch.soqConfig(p)
+  val soqConfig: CacheConfig = Shapes(p).soq
   override def desiredName = s"QueryFetch_$n"
 
   val io = IO(new Bundle {
@@ -87,16 +88,4 @@ class QueryFetch(p: MapmParams) extends Module {
   io.error := soq.io.protocolError || malformed
   io.idle := !valid.asUInt.orR
   io.waiting := (valid.asUInt & ~arrived.asUInt).orR
-}
-
-object QueryFetch {
-  /** The SOQ cache: Table 4.2's geometry, the part of a query record the hardware reads per read, fetched from memory
-    * in the port's beats. Every query misses once (its record is read once), so the cache keeps
-    * as many misses in flight as there are query fetches (up to its 64 MSHRs): at 100 cycles of
-    * memory latency, 4 MSHRs would hold the stream to 0.04 queries per cycle. */
-  def soqConfig(p: MapmParams): CacheConfig = {
-    val n = p.queues.queryFetches
-    CacheConfig(p.caches.soq, wordBytes = p.records.queryHwBytes, idBits = Index.bits(n), addressBits = p.memory.addressBits,
-      downBytes = p.memory.dataBytes, mshrs = n min 64, targets = n min 64)
-  }
 }

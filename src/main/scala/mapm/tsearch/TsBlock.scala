@@ -3,9 +3,10 @@ package mapm.tsearch
 import chisel3._
 import chisel3.experimental.hierarchy.{Definition, Instance}
 import chisel3.util._
-import mapm.memory.{CacheConfig, MemArbiter, MemPort, ReadOnlyCache}
+import mapm.memory.MemPort
 import mapm.params.{MapmConfig, MapmParams, QueryIn, SoGroup}
-import mapm.util.{Counters, Index, RoundRobin, Rotate}
+import mapm.uncore.Shapes
+import mapm.util.{CostBlock, Counters, Index, RoundRobin}
 
 /** Counters of the TS block (64 bits each; docs/mapm.md). */
 class TsCounters extends Bundle {
@@ -16,25 +17,21 @@ class TsCounters extends Bundle {
   val stallQuery = UInt(64.W)
   val tsL1Hits = UInt(64.W)
   val tsL1Misses = UInt(64.W)
-  val tsL2Hits = UInt(64.W)
-  val tsL2Misses = UInt(64.W)
   val soqHits = UInt(64.W)
   val soqMisses = UInt(64.W)
   val rqPeak = UInt(64.W)
 }
 
 /** The Tree Search block (3.3): [[QueryFetch]] (the host's query stream and the SOQ cache), the
-  * Launcher, `tsm` [[Tsm]]s (each with its TS L1, TSA, Nextnode and bank of the Register queue),
-  * and the shared TS L2 behind a [[MemArbiter]] of the L1s.
+  * Launcher, and `tsm` [[Tsm]]s (each with its TS L1, TSA, Nextnode and bank of the Register
+  * queue). The TS L2 below the TS L1s is the uncore's ([[mapm.uncore.Uncore]]).
   *
   * The Launcher hands the next query (in stream order) to one TSM that can start it, choosing
   * round-robin from the TSM after the last one served; a TSM takes a new query only when its
   * bank of the Register queue is empty, so pending child searches always go first (3.3). With an
   * empty tree (`nodeCount` 0) every query is accepted and finishes at once, with no operation.
-  * The TS L2 (Table 4.2: fully associative, built as 16-way with a hashed index,
-  * docs/memory-port.md) serves the L1s' line fetches.
   *
-  * Outputs: one SO group port per TSM, the TS L2's and the SOQ cache's memory ports, `idle`
+  * Outputs: one SO group port per TSM, each TSM's TS L1 miss port and the SOQ cache's, `idle`
   * (nothing held anywhere in the block), a sticky `error`, and the counters.
   *
   * Latency: a query's root operation enters a TSM one cycle after its SOQ record arrives.
@@ -43,15 +40,17 @@ class TsCounters extends Bundle {
 class TsBlock(p: MapmParams) extends Module {
   private val t = p.counts.tsm
   override def desiredName = s"TsBlock_t${t}_${p.numbers.format.name}"
-  private val l1 = Tsm.l1Config(p)
-  val l2Config: CacheConfig = TsBlock.l2Config(p)
+  CostBlock.tag(this, CostBlock.TsBlock)
+  private val shapes = Shapes(p)
 
   val io = IO(new Bundle {
     val cfg = Input(new MapmConfig(p))
     val query = Flipped(Decoupled(new QueryIn(p)))
     val so = Vec(t, Decoupled(new SoGroup(p)))
-    val tsMem = new MemPort(l2Config.down)
-    val soqMem = new MemPort(QueryFetch.soqConfig(p).down)
+    /** Each TSM's TS L1 miss port. */
+    val l1 = Vec(t, new MemPort(shapes.tsL1.down))
+    /** The SOQ cache's miss port. */
+    val soq = new MemPort(shapes.soq.down)
     val idle = Output(Bool())
     val error = Output(Bool())
     val counters = Output(new TsCounters)
@@ -60,7 +59,7 @@ class TsBlock(p: MapmParams) extends Module {
   val fetch = Module(new QueryFetch(p))
   fetch.io.queryBase := io.cfg.queryBase
   fetch.io.in <> io.query
-  io.soqMem <> fetch.io.mem
+  io.soq <> fetch.io.mem
 
   // Depth-first reserve: the bit length of the node count bounds the depth of the tree the model
   // builds (each split halves the photons, 3.1.4).
@@ -68,10 +67,6 @@ class TsBlock(p: MapmParams) extends Module {
   private val reserve = Mux(emptyTree, 0.U, Log2(io.cfg.nodeCount) +& 1.U)
 
   val tsms: Seq[Instance[Tsm]] = { val d = Definition(new Tsm(p)); Seq.fill(t)(Instance(d)) } // elaborated once
-  val arb = Module(new MemArbiter(l1.down, t, maxOutstanding = 4 * t))
-  val l2 = Module(new ReadOnlyCache(l2Config))
-  l2.io.up <> arb.io.down
-  io.tsMem <> l2.io.down
 
   // Launcher: the next query to the first willing TSM after the last one served.
   val last = RegInit((t - 1).U(Index.bits(t).W))
@@ -86,14 +81,14 @@ class TsBlock(p: MapmParams) extends Module {
     m.io.query.valid := offered && chosen === i.U
     m.io.query.bits := fetch.io.out.bits
     m.io.queryWaiting := offered
-    arb.io.up(i) <> m.io.mem
+    io.l1(i) <> m.io.mem
     io.so(i) <> m.io.so
   }
   fetch.io.out.ready := emptyTree || anyWilling
   when(offered && anyWilling) { last := chosen }
 
   io.idle := fetch.io.idle && tsms.map(_.io.idle).reduce(_ && _)
-  io.error := fetch.io.error || l2.io.protocolError || arb.io.protocolError || tsms.map(_.io.error).reduce(_ || _)
+  io.error := fetch.io.error || tsms.map(_.io.error).reduce(_ || _)
 
   // Counters.
   import Counters.{count => counter}
@@ -104,17 +99,7 @@ class TsBlock(p: MapmParams) extends Module {
   io.counters.stallQuery := counter(Seq(fetch.io.waiting && !fetch.io.out.valid && anyWilling))
   io.counters.tsL1Hits := Counters.sum(tsms.map(_.io.l1.hits))
   io.counters.tsL1Misses := Counters.sum(tsms.map(_.io.l1.misses))
-  io.counters.tsL2Hits := l2.io.counters.hits
-  io.counters.tsL2Misses := l2.io.counters.misses
   io.counters.soqHits := fetch.io.soq.hits
   io.counters.soqMisses := fetch.io.soq.misses
   io.counters.rqPeak := tsms.map(_.io.rqPeak).reduce((a, b) => Mux(a > b, a, b))
-}
-
-object TsBlock {
-  /** The TS L2: Table 4.2's geometry, serving the L1s' lines through their arbiter, fetching from
-    * memory in the port's beats. */
-  def l2Config(p: MapmParams): CacheConfig =
-    CacheConfig.below(MemArbiter.downParams(Seq.fill(p.counts.tsm)(Tsm.l1Config(p).down)), p.caches.tsL2,
-      downBytes = p.memory.dataBytes)
 }

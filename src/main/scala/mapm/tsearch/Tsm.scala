@@ -6,7 +6,8 @@ import chisel3.util._
 import mapm.fpu.FpuDepth
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
 import mapm.params.{MapmParams, NodeRecord, QueryData, Records, SoGroup}
-import mapm.util.{Counters, Index, RoundRobin, Rotate}
+import mapm.uncore.Shapes
+import mapm.util.{Index, RoundRobin}
 
 /** A pending search inside one TSM: the query's slot in the TSM's query table and the node. */
 class TsmOp(p: MapmParams) extends Bundle {
@@ -77,7 +78,7 @@ class Tsm(p: MapmParams) extends Module {
   private val nq = p.queues.tsmQueries
   private val ns = p.queues.fetchSlots
   private val depth = p.queues.registerQueueDepth
-  val l1Config: CacheConfig = Tsm.l1Config(p)
+  val l1Config: CacheConfig = Shapes(p).tsL1
   override def desiredName = s"Tsm_${fmt.name}_d${depth}_f${ns}_q$nq"
 
   @public val io = IO(new Bundle {
@@ -221,12 +222,4 @@ class Tsm(p: MapmParams) extends Module {
   io.events.stallNodeData := en && !anyReady && slotValid.asUInt.orR
   io.events.stallRsFull := outValid && !io.so.ready
   io.events.stallRqFull := canTake && ((stack.io.top.valid && !popOk) || (!stack.io.top.valid && io.queryWaiting && freeQ.orR && !queryOk))
-}
-
-object Tsm {
-  /** The TS L1 of one TSM: Table 4.2's geometry, one node record per read, one id per fetch slot,
-    * whole lines to the TS L2. */
-  def l1Config(p: MapmParams): CacheConfig =
-    CacheConfig(p.caches.tsL1, wordBytes = p.records.node.bytes, idBits = Index.bits(p.queues.fetchSlots), addressBits = p.memory.addressBits,
-      downBytes = p.caches.tsL1.lineBytes)
 }

@@ -34,10 +34,10 @@ class LimitsSpec extends AnyFunSuite {
 
   test("at the largest counts every memory port's id still fits its 16 bits (the counts' ranges are the real limit)") {
     val p = Configure.of(ModuleCounts.MaxTsm, ModuleCounts.MaxSom, ModuleCounts.MaxSoaPerSom, FloatFormat.fp64, 3)
-    val top = Mapm.memParams(p) // sizes the TS L2, SOQ and SOP L2 ports and the arbiters above them; throws when an id is too wide
+    val top = mapm.uncore.Shapes(p).mem // sizes the TS L2, SOQ and SOP L2 ports and the arbiters above them; throws when an id is too wide
     assert(top.idBits <= 16)
     // Past the TSM range the ids would not fit: the range guards the port, not a guess.
-    val tsL1 = mapm.tsearch.Tsm.l1Config(p).down.idBits
+    val tsL1 = mapm.uncore.Shapes(p).tsL1.down.idBits
     assert(tsL1 + chisel3.util.log2Ceil(100000) > 16)
   }
 

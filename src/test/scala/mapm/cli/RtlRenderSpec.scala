@@ -48,7 +48,7 @@ class RtlRenderSpec extends AnyFunSuite {
     def run(order: mapm.model.QueryOrder): Path = {
       val out = Paths.get(s"target/rtl-render-test/out-order-$order")
       assert(RenderCommand.render(tsm = 2, som = 1, soa = 2,
-        opts = RtlOptions(scene = scene.toString, seed = 7, maxCycles = 2000000, out = out.toString, threads = 2, queryOrder = order)) == 0)
+        opts = RtlOptions(scene = scene.toString, seed = 7, maxCycles = 2000000, out = out.toString, threads = 2, queryOrder = Some(order))) == 0)
       out
     }
     val (host, morton) = (run(mapm.model.QueryOrder.Host), run(mapm.model.QueryOrder.Morton))

@@ -28,7 +28,7 @@ class ConfigureSpec extends AnyFunSuite {
     val p = Configure.of(4, 4, 3, FloatFormat.fp32, 3, tuning = t)
     assert(p.queues.registerQueueDepth == 64 && p.queues.rsEntries == 24 && p.memory.maxOutstanding == 16)
     assert(p.caches.tsL1 == CacheParams(4096, 32, 1) && p.caches.sopL2 == CacheParams(131072, 64, 2048))
-    assert(p.caches.soq == MapmParams.default.caches.soq, "the rest as Table 4.2")
+    assert(p.caches.soq == MapmParams.default.caches.soq, "the rest as the hierarchy gives it")
     assert(t.describe == Seq("rq-depth=64", "rs-entries=24", "ts-l1=4096/32/1", "sop-l2=131072", "mem-outstanding=16"))
     // a default line grows to fit a record; a line the user gives is checked as given
     assert(Configure.of(1, 1, 1, FloatFormat.fp64, 3).caches.sopL1.lineBytes == 64)
@@ -40,6 +40,7 @@ class ConfigureSpec extends AnyFunSuite {
 
   test("--sop-l2-banks: 1 is the shared SOP L2, a power of two up to 64 banks; anything else a one-line error naming it") {
     def banks(n: Int) = Configure.of(2, 2, 2, FloatFormat.fp32, 3, tuning = Tuning(sopL2Banks = Some(n)))
+    def tsBanks(n: Int) = Configure.of(2, 2, 2, FloatFormat.fp32, 3, tuning = Tuning(tsL2Banks = Some(n)))
     assert(banks(1).uncore.sopL2 == L2Structure.Shared && banks(1) == Configure.of(2, 2, 2, FloatFormat.fp32, 3))
     for (n <- Seq(2, 4, 8, 16, 32, 64)) {
       val p = banks(n)
@@ -49,7 +50,10 @@ class ConfigureSpec extends AnyFunSuite {
     }
     assert(Tuning(sopL2Banks = Some(8)).describe == Seq("sop-l2-banks=8"))
     for (n <- Seq(0, 3, 12, 128))
-      assert(intercept[mapm.MapmError](banks(n)).getMessage == s"--sop-l2-banks: SOP L2 banks must be a power of two 2..64, got $n")
+      assert(intercept[mapm.MapmError](banks(n)).getMessage == s"--sop-l2-banks: L2 banks must be a power of two 2..64, got $n")
+    // The TS L2 the same way: Table 4.2's 256 KiB fully associative TS L2 split evenly.
+    assert(tsBanks(4).uncore.tsL2 == L2Structure.Banked(4) && tsBanks(4).tsL2Bank == CacheParams(65536, 64, 1024) && tsBanks(4).name.endsWith("_tb4"))
+    assert(intercept[mapm.MapmError](tsBanks(6)).getMessage == "--ts-l2-banks: L2 banks must be a power of two 2..64, got 6")
     // A set-associative SOP L2 needs a set per bank.
     val few = intercept[mapm.MapmError](Configure.of(1, 1, 1, FloatFormat.fp32, 3,
       tuning = Tuning(sopL2 = CacheSpec.parse("4K/64/16"), sopL2Banks = Some(8))))

@@ -29,7 +29,7 @@ class MapmLintSpec extends AnyFunSuite {
     Configure.of(1, 1, 1, FloatFormat(6, 9), 3),
     Configure.of(1, 1, 2, FloatFormat.fp16, 3, layout = SlotLayout.Wide),
     Configure.of(1, 1, 1, FloatFormat.fp64, 3),
-    Configure.of(2, 3, 2, FloatFormat.fp32, 3, tuning = mapm.pipeline.Tuning(sopL2Banks = Some(8))))
+    Configure.of(2, 3, 2, FloatFormat.fp32, 3, tuning = mapm.pipeline.Tuning(sopL2Banks = Some(8), tsL2Banks = Some(2))))
 
   for (p <- configs) test(s"Mapm_${p.name} lints clean") {
     assume(haveVerilator, "verilator is not on PATH")

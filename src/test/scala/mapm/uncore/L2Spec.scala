@@ -3,33 +3,34 @@ package mapm.uncore
 import chisel3._
 import chiseltest._
 import mapm.Slow
-import mapm.memory.{DramModel, DramTiming, MemImage, MemPortParams, MemSim, PortClient}
+import mapm.memory.{CacheConfig, DramModel, DramTiming, MemArbiter, MemImage, MemPortParams, MemSim, PortClient}
 import mapm.params._
 import mapm.testutil.Sim
 import org.scalatest.funsuite.AnyFunSuite
 import scala.util.Random
 
-/** The SOP L2 in both structures, between PortClients standing in for the SOP L1 banks and one
+/** The L2 (the TS L2's and the SOP L2's module) in both structures, between PortClients standing
+  * in for the L1s (here shaped as SOP L1 banks) and one
   * behavioural DRAM per bank (random latency, refusals and response order), under random client
   * stalls: every read returns its bytes (none lost, none duplicated); each bank fetches exactly the
   * lines of its own (line address mod banks), each once while the working set fits; hits and misses
   * equal those of that reference; the conflict counter is exact on hand-built patterns. */
 @Slow
-class SopL2Spec extends AnyFunSuite with Sim {
+class L2Spec extends AnyFunSuite with Sim {
   private val memSize = 1 << 14
   private val lineBytes = 64
   /** An SOP L1 bank's miss port: single-beat reads of one 32-byte line, 2-bit ids. */
   private val up = MemPortParams(32, 32, 2)
 
-  private def params(som: Int, soa: Int, l2: L2Structure, l2Bytes: Int): MapmParams = {
-    val s = MapmParams.small
-    s.copy(counts = ModuleCounts(1, som, soa), queues = s.queues.copy(rsEntries = 8 * soa),
-      caches = s.caches.copy(sopL2 = CacheParams(l2Bytes, lineBytes, l2Bytes / lineBytes)), uncore = UncoreParams(l2))
+  /** An L2 of `l2Bytes` (fully associative, 64-byte lines) under `clients` L1s, built as `l2`. */
+  private def l2(clients: Int, l2: L2Structure, l2Bytes: Int): L2 = {
+    val bank = MapmParams.l2Bank(CacheParams(l2Bytes, lineBytes, l2Bytes / lineBytes), l2)
+    new L2("sop", clients, up, CacheConfig.below(MemArbiter.downParams(Seq.fill(clients)(up)), bank).copy(interleave = l2.banks), l2)
   }
 
   /** Runs `reads` random reads per client over `span` bytes; returns each bank's DRAM requests
     * and the reads issued. */
-  private def run(c: SopL2, seed: Long, reads: Int, span: Int): (Seq[Seq[Long]], Seq[IndexedSeq[Long]]) = {
+  private def run(c: L2, seed: Long, reads: Int, span: Int): (Seq[Seq[Long]], Seq[IndexedSeq[Long]]) = {
     c.clock.setTimeout(0)
     val rnd = new Random(seed)
     val mem = new MemImage(memSize, seed)
@@ -48,17 +49,15 @@ class SopL2Spec extends AnyFunSuite with Sim {
     (drams.map(_.requests.toSeq), streams)
   }
 
-  for ((som, soa, l2) <- Seq((2, 2, L2Structure.Shared), (2, 2, L2Structure.Banked(2)), (3, 1, L2Structure.Banked(4)),
-                             (1, 3, L2Structure.Banked(8)))) {
-    test(s"$som SOMs x $soa SOAs over an SOP L2 ${l2.name}: every read right; each bank fetches its own lines once; hits and misses exact") {
-      val p = params(som, soa, l2, 8192)
-      simulate(new SopL2(p, up)) { c =>
+  for ((clients, structure) <- Seq((4, L2Structure.Shared), (4, L2Structure.Banked(2)), (3, L2Structure.Banked(4)), (3, L2Structure.Banked(8)))) {
+    test(s"$clients L1s over an L2 ${structure.name}: every read right; each bank fetches its own lines once; hits and misses exact") {
+      simulate(l2(clients, structure, 8192)) { c =>
         for (seed <- 0 until 6) {
           // The working set (4 KiB) fits every bank: each line is fetched once, by its own bank.
           val (fetched, streams) = run(c, seed, 250, 4096)
           val lines = streams.flatten.map(_ / lineBytes).distinct
           for ((f, b) <- fetched.zipWithIndex) {
-            val mine = lines.filter(_ % l2.banks == b).map(_ * lineBytes)
+            val mine = lines.filter(_ % structure.banks == b).map(_ * lineBytes)
             assert(f.sorted == mine.sorted, s"seed $seed: bank $b fetched ${f.size} lines, its own are ${mine.size}")
           }
           val total = streams.map(_.size).sum.toLong
@@ -71,8 +70,7 @@ class SopL2Spec extends AnyFunSuite with Sim {
   }
 
   test("banked under eviction (a working set 4 times the SOP L2): every read right, every fetch by the bank its line names") {
-    val p = params(2, 2, L2Structure.Banked(4), 2048)
-    simulate(new SopL2(p, up)) { c =>
+    simulate(l2(4, L2Structure.Banked(4), 2048)) { c =>
       for (seed <- 0 until 4) {
         val (fetched, _) = run(c, 100 + seed, 400, 8192)
         for ((f, b) <- fetched.zipWithIndex) assert(f.forall(a => (a / lineBytes) % 4 == b), s"seed $seed: bank $b fetched another bank's line")
@@ -82,8 +80,7 @@ class SopL2Spec extends AnyFunSuite with Sim {
   }
 
   test("conflict counter: k reads of one bank offered at once wait 0 + 1 + ... + (k - 1) cycles; reads of different banks none") {
-    val p = params(3, 1, L2Structure.Banked(2), 8192)
-    simulate(new SopL2(p, up)) { c =>
+    simulate(l2(3, L2Structure.Banked(2), 8192)) { c =>
       c.clock.setTimeout(0)
       c.io.l1.foreach(_.req.valid.poke(false.B))
       c.io.l1.foreach(_.resp.ready.poke(true.B))

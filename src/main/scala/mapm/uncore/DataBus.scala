@@ -1,9 +1,9 @@
-package mapm.shader
+package mapm.uncore
 
 import chisel3._
 import chisel3.util._
 import mapm.params.{MapmParams, SoGroup}
-import mapm.util.{Counters, Index, RoundRobin, Rotate}
+import mapm.util.{Index, RoundRobin, Rotate}
 
 /** The Data bus (3.2): hands the TSMs' SO groups to SOMs with room for them.
   *
@@ -36,7 +36,7 @@ class DataBus(p: MapmParams) extends Module {
 
   // fits(i): the SOMs group i fits, as an s-bit mask.
   private val fits = VecInit(io.in.map { g =>
-    val need = Som.needs(g.bits, a)
+    val need = SoGroup.needs(g.bits, a)
     VecInit(io.free.map(f => g.valid && need.zip(f).map { case (n, fr) => n <= fr }.reduce(_ && _))).asUInt
   })
   // Claims in rotated TSM order; claim(k) is the SOM (one-hot) taken by the k-th group in that order,

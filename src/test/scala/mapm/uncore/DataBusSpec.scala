@@ -1,4 +1,4 @@
-package mapm.shader
+package mapm.uncore
 
 import chisel3._
 import chiseltest._
