@@ -198,13 +198,16 @@ object Args {
     * gives its own). Kept here, not in the groups' companions: an explicit companion hides a case
     * class's default arguments from mainargs. */
   lazy val groupDefaults: Map[String, String] = {
+    import mapm.params.Hierarchy.{Scalable, Table42}
     val one = MapmParams.table48(1, 1, 1)
     def geometry(c: CacheParams) = s"${c.sizeBytes / 1024}K/${c.lineBytes}/${if (c.fullyAssociative) "full" else c.ways}"
     val c = one.caches
+    val banks16 = Scalable.sopL2Banks(MapmParams.dissertation.counts, c.sopL2)
     Map("--rq-depth" -> one.queues.registerQueueDepth.toString, "--rs-entries" -> s"${one.queues.rsEntries} per SOA",
-      "--ts-l1" -> geometry(c.tsL1), "--ts-l2" -> geometry(c.tsL2), "--soq" -> geometry(c.soq),
+      "--ts-l1" -> geometry(c.tsL1), "--ts-l2" -> geometry(c.tsL2), "--soq" -> s"${geometry(Scalable.soq)}; $Table42: ${geometry(Table42.soq)}",
       "--sop-l1" -> geometry(c.sopL1), "--sop-l2" -> geometry(c.sopL2), "--mem-outstanding" -> one.memory.maxOutstanding.toString,
-      "--sop-l2-banks" -> one.uncore.sopL2.banks.toString, "--fidelity" -> mapm.params.Fidelity.Full.name)
+      "--sop-l2-banks" -> s"one per four SOP L1 banks, $banks16 at 16/16/2; $Table42: 1", "--ts-l2-banks" -> "1",
+      "--query-order" -> s"morton; host with --hierarchy $Table42", "--fidelity" -> mapm.params.Fidelity.Full.name)
   }
 
   /** The hardware sizes `emit`, `render`, `sweep` and `evaluate` share (see [[rtlOptionsParser]] for why here). */

@@ -5,9 +5,10 @@ import mapm.pipeline.{CacheSpec, Tuning}
 import mapm.params.Hierarchy
 import Args.{CacheSpecReader, HierarchyReader}
 
-/** The hardware sizes Table 4.2 and the design space vary, shared by `emit`, `render`, `sweep` and
-  * `evaluate` (each takes it as one parameter; mainargs lists its flags with the command's own).
-  * Every one left out keeps the default of [[mapm.params.MapmParams.of]]. The memory's latency
+/** The memory hierarchy and the hardware sizes Table 4.2 and the design space vary, shared by
+  * `emit`, `render`, `sweep`, `evaluate` and `cost` (each takes it as one parameter; mainargs lists
+  * its flags with the command's own). Every size left out keeps the hierarchy's
+  * ([[mapm.pipeline.Configure.of]]). The memory's latency
   * and bandwidth belong to the harness's memory model, not to the RTL: `render`, `sweep` and
   * `evaluate` take them as `--latency` and `--bandwidth`. */
 @main
@@ -21,8 +22,8 @@ final case class HwOptions(
     @arg(name = "sop-l2", doc = "shared SOP L2") sopL2: Option[CacheSpec] = None,
     @arg(doc = "requests in flight at once on the memory port") memOutstanding: Option[Int] = None,
     @arg(doc = "memory hierarchy: scalable (the SOP L2 in banks, one per four SOP L1 banks, and a 4-way SOQ; docs/uncore.md) or table4.2 (the dissertation's: shared L2s, a direct-mapped SOQ, and the host's query order unless --query-order says otherwise)") hierarchy: Hierarchy = Hierarchy.Scalable,
-    @arg(name = "sop-l2-banks", doc = "SOP L2 banks: 1 is one shared cache with one port (Table 4.2's); 2, 4 ... 64 split it by line address, each bank with its own port, behind a registered network (default: the hierarchy's)") sopL2Banks: Option[Int] = None,
-    @arg(name = "ts-l2-banks", doc = "TS L2 banks, as --sop-l2-banks (default: the hierarchy's, 1)") tsL2Banks: Option[Int] = None,
+    @arg(name = "sop-l2-banks", doc = "SOP L2 banks: 1 is one shared cache with one port (Table 4.2's); 2, 4 ... 64 split it by line address, each bank with its own port, behind a registered network") sopL2Banks: Option[Int] = None,
+    @arg(name = "ts-l2-banks", doc = "TS L2 banks, as --sop-l2-banks") tsL2Banks: Option[Int] = None,
     @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag()) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),

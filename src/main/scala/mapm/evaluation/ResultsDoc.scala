@@ -188,7 +188,8 @@ object ResultsDoc {
       val shares = rows.flatMap { case (w, _) => stats(w.key, c16) }.filter(_.bytesFetched > 0)
         .flatMap(x => x.caches.get("soq").map(q => q.misses.toDouble * soqLine / x.bytesFetched))
       val soq2k = ts2k.flatMap(x => x.caches.get("soq").map(q => (q.misses, x.queries)))
-      line(s"- **Bandwidth.** Our query records stream through the SOQ, a direct-mapped ${p16.caches.soq.sizeBytes / 1024} KiB cache: " +
+      val soqWays = if (p16.caches.soq.ways == 1) "direct-mapped" else s"${p16.caches.soq.ways}-way"
+      line(s"- **Bandwidth.** Our query records stream through the SOQ, a $soqWays ${p16.caches.soq.sizeBytes / 1024} KiB cache: " +
         soq2k.map { case (m, q) => s"at Cornell 2k it missed ${n(m)} times for ${n(q)} queries, so each query's record is read from memory " +
           (if (m == q) "exactly once" else f"${m.toDouble / q}%.2f times on average") + ", " }.getOrElse("") +
         (if (shares.isEmpty) "" else f"and those reads are ${shares.min * 100}%.0f %% to ${shares.max * 100}%.0f %% of the bytes fetched at 16/16/2 (the last column of Table 4.13). ") +
@@ -200,16 +201,18 @@ object ResultsDoc {
       val l1Bank = p16.sopL1Bank.sizeBytes
       val l2 = for ((w, _) <- rows; x <- stats(w.key, c16); l1 <- x.caches.get("sopL1"); l2 <- x.caches.get("sopL2"))
         yield (w, x, l1.hitRate, (l2.hits + l2.misses).toDouble / x.cycles)
+      val banks = p16.uncore.sopL2.banks
       if (l2.nonEmpty) {
-        line(s"- **The shared SOP L2's port.** Every SOP L1 miss goes to the one SOP L2, which takes one request per cycle (docs/memory-port.md). " +
+        line((if (banks == 1) s"- **The shared SOP L2's port.** Every SOP L1 miss goes to the one SOP L2, which takes one request per cycle (docs/memory-port.md). "
+          else s"- **The SOP L2's ports.** Every SOP L1 miss goes to its line's bank of the SOP L2, $banks banks that each take one request per cycle (docs/uncore.md). ") +
           s"At 16/16/2: " + l2.map { case (w, x, h1, a2) =>
             f"${w.title}: SOP L1 hit rate ${h1 * 100}%.1f %%, ${a2}%.3f SOP L2 requests per cycle, ${x.soPerCycle}%.2f SO/cycle" }.mkString("; ") + ". " +
           f"A photon record is $photonBytes bytes and each SOA's ${l1Bank / 1024} KiB SOP L1 bank holds every second photon: 2,000 photons put " +
           f"${1000L * photonBytes / 1024.0}%.1f KiB in each bank, which fits, and 8,000 put ${4000L * photonBytes / 1024.0}%.0f KiB, which does not. " +
-          (if (l2.exists(_._4 > 0.5)) "Where the L2's port runs at more than half a request per cycle, it bounds the SO rate, and more SOMs add " +
+          (if (l2.exists(_._4 > 0.5 * banks)) "Where the L2's ports run at more than half a request per cycle each, they bound the SO rate, and more SOMs add " +
             "misses, not throughput. The dissertation's 8k figures keep scaling to 16/16/2; its cache model (section 4.1.3) sizes the caches but " +
             "does not describe a port limit. "
-          else "In these runs the L2's port stays below half a request per cycle and is not the bound. ") +
+          else "In these runs the L2's ports stay below half a request per cycle each and are not the bound. ") +
           "`--sop-l1` and `--sop-l2` on `sweep` and `render` vary the caches.")
       }
       line(f"- **Node and clock.** Our cells are OSU's 0.18 um library (typical corner, 1.8 V), not the dissertation's 90 nm; our units close at " +
