@@ -55,6 +55,9 @@ object CostCommand extends Command {
     libPath.foreach(p => MapmError.check(Files.isRegularFile(p), s"cost: Liberty file $p not found"))
     MapmError.check(!compare.value || unit.forall(u => u == "soa" || u == "tsa"),
       "cost: --compare needs --unit soa or --unit tsa, or --tsm/--som/--soa for the whole MAPM")
+    val given = hw.tuning.describe
+    MapmError.check(unit.isEmpty || given.isEmpty,
+      s"cost: --${given.headOption.getOrElse("").takeWhile(_ != '=')} applies to a whole MAPM (--tsm/--som/--soa), not to --unit")
     val run = CostRun(format, g, fpuWeight, libPath, clocks, abc, ops, stimulus == "frame", scene, seed, Paths.get(out), hw.tuning)
     (unit, counts.flatten) match {
       case (Some(u), Seq()) if compare.value => run.compareUnits(u); 0

@@ -48,7 +48,7 @@ object StressCommand extends Command {
       @arg(doc = "fail a run that has not finished after this many cycles") maxCycles: Long = 5000000,
       @arg(doc = "output folder") out: String = "out",
       @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads,
-      @arg(name = "sop-l2-banks", doc = "SOP L2 banks of every configuration: 1 is one shared cache (Table 4.2's), 2 .. 64 address-interleaved banks (default: the scalable hierarchy's, one per four SOP L1 banks; docs/uncore.md)") sopL2Banks: Option[Int] = None
+      @arg(name = "sop-l2-banks", doc = "SOP L2 banks of every configuration: 1 is one shared cache (Table 4.2's), 2 .. 64 address-interleaved banks (docs/uncore.md)") sopL2Banks: Option[Int] = None
   ): Int = {
     MapmError.check(seeds >= 1 && seeds <= 1000000, s"stress: --seeds must be 1..1000000, got $seeds")
     MapmError.check(firstSeed >= 0, s"stress: --first-seed must be at least 0, got $firstSeed")
