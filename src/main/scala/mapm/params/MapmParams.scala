@@ -150,6 +150,8 @@ sealed abstract class L2Structure(name: String) extends mapm.Choice(name) {
   def banks: Int
 }
 object L2Structure {
+  /** Whether an L2 of geometry `g` splits into `banks` banks: two lines and a set a bank. */
+  def splits(g: CacheParams, banks: Int): Boolean = g.lines / banks >= 2 && (g.fullyAssociative || g.sets >= banks)
   /** One cache, one request a cycle: the dissertation's shared L2. */
   case object Shared extends L2Structure("shared") { val banks = 1 }
   /** `banks` address-interleaved caches (line address mod `banks`), each a quarter, an eighth ... of
@@ -197,7 +199,7 @@ object Hierarchy extends mapm.Choices[Hierarchy] {
       * geometry `g` splits into (two lines and a set a bank). */
     def sopL2Banks(c: ModuleCounts, g: CacheParams): Int = {
       val want = math.min(L2Structure.Banked.MaxBanks, Integer.highestOneBit(math.max(1, c.som * c.soaPerSom / 4)))
-      Iterator.iterate(want)(_ / 2).find(n => n == 1 || (g.lines / n >= 2 && (g.fullyAssociative || g.sets >= n))).get
+      Iterator.iterate(want)(_ / 2).find(n => n == 1 || L2Structure.splits(g, n)).get
     }
     def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams = {
       val n = sopL2Banks(c, sopL2)
@@ -247,7 +249,7 @@ final case class MapmParams(
     s"SOP L1 line of ${caches.sopL1.lineBytes} bytes is shorter than a ${records.photon.bytes}-byte photon record ($slotBytes-byte slots)")
   require(caches.sopL1.lineBytes <= caches.sopL2.lineBytes, "SOP L1 line must not be longer than the SOP L2 line")
   for ((name, g, l2) <- Seq(("TS L2", caches.tsL2, uncore.tsL2), ("SOP L2", caches.sopL2, uncore.sopL2)))
-    require(g.lines / l2.banks >= 2 && (g.fullyAssociative || g.sets >= l2.banks),
+    require(L2Structure.splits(g, l2.banks),
       s"$name of ${g.describe} cannot be split into ${l2.banks} banks: each needs two lines and a set of its own")
   require(queues.registerQueueDepth >= indices.nodeBits + 4,
     s"Register queue depth ${queues.registerQueueDepth} must exceed the tree-depth reserve: at least ${indices.nodeBits + 4} for ${indices.nodeBits}-bit node indices")
