@@ -1,6 +1,6 @@
 package mapm.cli
 
-import mapm.evaluation.{Evaluation, RunArchive, Slurm, Workloads}
+import mapm.evaluation.{Evaluation, ResultsDoc, RunArchive, Slurm, Workloads}
 
 import java.nio.file.Paths
 
@@ -38,6 +38,7 @@ object EvaluateCommand extends Command {
       @arg(doc = "the results page to write (default: results.md in --out; the committed page is docs/results.md, written only when named here); its charts go beside it, in results/, and the full run keeps each finished run in results/runs/") results: Option[String] = None,
       @arg(doc = "take the runs an earlier full run (or part of one) kept in results/runs/ with the same code and options, and run the rest") resume: Flag,
       @arg(doc = "start no job after this many minutes; the runs left are for a later --resume (exit status 2)") budget: Option[Double] = None,
+      @arg(doc = "LABEL=PAGE: another full run's results page (e.g. table4.2=docs/results-table4.2/results.md, the dissertation's hierarchy): the cycles of the runs kept beside it stand beside ours in Tables 4.8 and 4.11, under LABEL") beside: Option[String] = None,
       opts: RtlOptions
   ): Int = {
     val t0 = System.nanoTime()
@@ -50,6 +51,7 @@ object EvaluateCommand extends Command {
     MapmError.check(!((slurm.value || task.isDefined || collect.value) && (resume.value || budget.isDefined)),
       "evaluate: --resume and --budget are for local runs, not --slurm")
     val eval = Evaluation(Workloads.of(quick.value), opts.settings(Fidelity.Timing))
+    val besideRun = beside.map(ResultsDoc.Beside.load(_, eval.workloads)) // a wrong page fails before any run
     val log: String => Unit = l => System.err.println(s"mapm: $l")
     task match {
       case Some(i) =>
@@ -59,7 +61,7 @@ object EvaluateCommand extends Command {
         eval.check() // every scene loads and fits before anything is submitted
         // Each task reruns this evaluation with the same options (not --slurm, --partition or --jobs).
         val taskArgs = (if (quick.value) Seq("--quick") else Seq.empty) ++ clock.toSeq.flatMap(c => Seq("--clock", c)) ++
-          results.toSeq.flatMap(r => Seq("--results", r)) ++ Slurm.strip(Args.toArgs(opts), Set.empty, hiddenOptions)
+          results.toSeq.flatMap(r => Seq("--results", r)) ++ beside.toSeq.flatMap(b => Seq("--beside", b)) ++ Slurm.strip(Args.toArgs(opts), Set.empty, hiddenOptions)
         val logs = Paths.get(opts.out).resolve("evaluate-slurm")
         val rc = Slurm.run(name, taskArgs, eval.jobs.size, partition, logs, log)
         if (rc != 0) MapmError.fail(s"evaluate: the Slurm collect step ended with exit status $rc (logs in $logs)")
@@ -76,7 +78,7 @@ object EvaluateCommand extends Command {
             s"--budget; `tools/mapm evaluate --resume` (same options) runs the rest and then writes $resultsFile")
           return 2
         }
-        eval.report(resultsFile, fixedClock, quick.value, parts, log)
+        eval.report(resultsFile, fixedClock, quick.value, parts, log, besideRun)
         if (parts.nonEmpty) println(f"evaluate: ${eval.jobs.size} runs in ${parts.map(_.wallSeconds).sum}%.0f s wall" +
           (if (parts.size > 1) s" (the sum of ${parts.size} parts)" else ""))
         0

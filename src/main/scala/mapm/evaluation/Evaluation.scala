@@ -90,12 +90,13 @@ final case class Evaluation(workloads: Seq[Workloads.Workload], base: RunSetting
   }
 
   /** Writes the results page `file` (and its charts) from the runs' result files, the cost at
-    * `fixedClock` or the slower unit's fmax; `parts` are the local parts that made the runs.
-    * Fails when any run failed. Returns the files written. */
-  def report(file: Path, fixedClock: Option[Double], quick: Boolean, parts: Seq[RunArchive.Part], log: String => Unit): Seq[Path] = {
+    * `fixedClock` or the slower unit's fmax; `parts` are the local parts that made the runs;
+    * `beside` another run shown beside them. Fails when any run failed. Returns the files written. */
+  def report(file: Path, fixedClock: Option[Double], quick: Boolean, parts: Seq[RunArchive.Part], log: String => Unit,
+             beside: Option[ResultsDoc.Beside] = None): Seq[Path] = {
     val rows = workloads.map(w => w -> w.configs.map(SweepReport.readRow(settings(w).workDir, _)))
     val cost = Sweep.unitCost(base, fixedClock, log)
-    val files = ResultsDoc.write(file, rows, cost, quick, base, parts)
+    val files = ResultsDoc.write(file, rows, cost, quick, base, parts, beside)
     files.foreach(f => println(s"wrote $f"))
     val failed = rows.flatMap(_._2).filterNot(_.passed)
     if (failed.nonEmpty) MapmError.fail(s"evaluate: ${failed.size} runs failed: " + failed.map(r => s"${r.label} (${r.result.failure})").mkString("; "))

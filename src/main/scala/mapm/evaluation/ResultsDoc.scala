@@ -3,9 +3,11 @@ package mapm.evaluation
 import mapm.pipeline.{Configure, RunSettings}
 
 import java.nio.charset.StandardCharsets.UTF_8
-import java.nio.file.{Files, Path}
+import java.nio.file.{Files, Path, Paths}
 
-import mapm.params.{Fidelity, MapmParams}
+import mapm.MapmError
+import mapm.params.Fidelity
+import mapm.sim.HarnessStats
 
 /** The results page `evaluate` writes: the dissertation's Tables 4.8-4.11 and 4.13 beside ours,
   * the differences explained with the measured figures, and the charts (PNGs in `results/` next
@@ -18,6 +20,28 @@ object ResultsDoc {
   private def d(x: Double, digits: Int = 3): String = if (x.isNaN || x.isInfinite) "" else s"%,.${digits}f".format(x)
   private def opt(x: Option[Double], digits: Int = 3): String = x.map(d(_, digits)).getOrElse("—")
   private def label(c: (Int, Int, Int)) = s"${c._1}/${c._2}/${c._3}"
+
+  /** Another full run's figures, shown beside this run's (`evaluate --beside LABEL=PAGE`, e.g. the
+    * Table 4.2 hierarchy's run beside the default's): `label` heads its columns, `page` is its
+    * results page, `stats` its kept runs ([[RunArchive.keptStats]]) by workload and configuration. */
+  final case class Beside(label: String, page: String, stats: Map[(String, (Int, Int, Int)), HarnessStats]) {
+    def of(w: String, c: (Int, Int, Int)): Option[HarnessStats] = stats.get((w, c))
+  }
+
+  object Beside {
+    /** The run of `spec` (`LABEL=PAGE`): the kept runs of `workloads` in PAGE's `results/runs/`. */
+    def load(spec: String, workloads: Seq[Workloads.Workload]): Beside = {
+      val i = spec.indexOf('=')
+      MapmError.check(i > 0 && i < spec.length - 1, s"evaluate: --beside takes LABEL=PAGE (e.g. table4.2=docs/results-table4.2/results.md), got '$spec'")
+      val (label, page) = (spec.take(i).trim, spec.drop(i + 1).trim)
+      MapmError.check(label.nonEmpty && !label.exists("|`".contains(_)), s"evaluate: --beside: the label '$label' must be non-empty and free of | and `")
+      val archive = RunArchive.beside(Paths.get(page))
+      MapmError.check(Files.isDirectory(archive.dir), s"evaluate: --beside $spec: no run archive at ${archive.dir}")
+      val stats = (for (w <- workloads; c <- w.configs; s <- archive.keptStats(w.key, c)) yield (w.key, c) -> s).toMap
+      MapmError.check(stats.nonEmpty, s"evaluate: --beside $spec: ${archive.dir} keeps no run of these workloads and configurations")
+      Beside(label, page, stats)
+    }
+  }
 
   /** How the runs were made: one local part's wall time, the sum of several parts', or merged. */
   def wall(parts: Seq[RunArchive.Part]): String = {
@@ -34,19 +58,20 @@ object ResultsDoc {
     * shared (the scene aside): the page states their number format (None: the scenes'), guard
     * digits, arithmetic, fidelity, sizes and memory model. */
   def write(file: Path, rows: Rows, cost: SweepReport.Cost, quick: Boolean, settings: RunSettings,
-            parts: Seq[RunArchive.Part]): Seq[Path] = {
+            parts: Seq[RunArchive.Part], beside: Option[Beside] = None): Seq[Path] = {
     val chartDir = Option(file.toAbsolutePath.getParent).getOrElse(file.toAbsolutePath).resolve("results")
     Files.createDirectories(chartDir)
     val charts = rows.map { case (w, rs) => w -> SweepReport.charts(chartDir, w.key, w.title, rs, Some(cost), cost.clockGHz) }
     for ((w, rs) <- rows) Files.write(chartDir.resolve(s"${w.key}-sweep.csv"), SweepReport.csv(rs, Some(cost), cost.clockGHz).getBytes(UTF_8))
-    Files.write(file, markdown(rows, cost, quick, settings, parts, file, charts).getBytes(UTF_8))
+    Files.write(file, markdown(rows, cost, quick, settings, parts, file, charts, beside).getBytes(UTF_8))
     file +: charts.flatMap(_._2)
   }
 
-  /** `parts`: the local runs that made the rows, one after another (none: merged by `--collect`). */
+  /** `parts`: the local runs that made the rows, one after another (none: merged by `--collect`);
+    * `beside`: another run whose cycles Tables 4.8 and 4.11 show beside these. */
   def markdown(rows: Rows, cost: SweepReport.Cost, quick: Boolean, settings: RunSettings, parts: Seq[RunArchive.Part],
-               file: Path, charts: Seq[(Workloads.Workload, Seq[Path])]): String = {
-    val page = new Page(rows, cost, settings)
+               file: Path, charts: Seq[(Workloads.Workload, Seq[Path])], beside: Option[Beside] = None): String = {
+    val page = new Page(rows, cost, settings, beside)
     page.header(settings.fidelity, quick, parts)
     page.table410(); page.table48(); page.table49(); page.table411(); page.table413()
     page.differences()
@@ -55,7 +80,7 @@ object ResultsDoc {
   }
 
   /** The page as it is written, a section at a time. */
-  private final class Page(rows: Rows, cost: SweepReport.Cost, settings: RunSettings) {
+  private final class Page(rows: Rows, cost: SweepReport.Cost, settings: RunSettings, beside: Option[Beside]) {
     private val sb = new StringBuilder
     private def line(s: String = ""): Unit = sb ++= s + "\n"
     private val byKey = rows.map { case (w, rs) => w.key -> rs.map(r => r.c -> r).toMap }.toMap
@@ -70,6 +95,14 @@ object ResultsDoc {
 
     def text: String = sb.toString
 
+    /** The column heads and cells of the run beside ours, for workload `w`, configuration `c`. */
+    private def besideHead: String = beside.map(b => s" cycles (${b.label}) | ${b.label} / ours |").getOrElse("")
+    private def besideRule: String = if (beside.isEmpty) "" else "---:|---:|"
+    private def besideCells(w: String, c: (Int, Int, Int)): String = beside.map { b =>
+      val o = b.of(w, c)
+      s" ${o.map(x => n(x.cycles)).getOrElse("—")} | ${opt(for (x <- o; s <- stats(w, c)) yield x.cycles.toDouble / s.cycles)} |"
+    }.getOrElse("")
+
     /** The title, how the runs were made and checked, and the settings. */
     def header(fidelity: Fidelity, quick: Boolean, parts: Seq[RunArchive.Part]): Unit = {
       line("# Results: the dissertation's chapter 4, reproduced")
@@ -82,6 +115,8 @@ object ResultsDoc {
       line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")
       line(s"- Number format ${settings.format.map(_.toString).getOrElse("fp32")}, g = ${settings.g}, ${settings.arith} arithmetic; ${settings.tuning.summary}; memory latency ${settings.harness.latency} cycles, ${settings.harness.bandwidth} bytes/cycle.")
       line(f"- Cost by the dissertation's method (Table 4.9: unit figures times counts), from our open flow (yosys, OpenSTA, OSU 0.18 um): ${cost.soa.top} ${cost.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.soa.fmaxGHz * 1000}%.0f MHz, ${cost.soa.dynamicPjPerCycle}%.0f pJ/cycle; ${cost.tsa.top} ${cost.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.tsa.fmaxGHz * 1000}%.0f MHz, ${cost.tsa.dynamicPjPerCycle}%.0f pJ/cycle (docs/cost.md).")
+      for (b <- beside) line(s"- Beside ours, the run of [${b.page}](${b.page}) (**${b.label}**, its ${b.stats.size} runs kept in its results/runs/, " +
+        s"made with other code or options): its cycles in the columns \"cycles (${b.label})\", and its cycles over ours in \"${b.label} / ours\" (above 1: ours take fewer cycles).")
       line(f"- Throughput, power and GB/s of ours at **$clk%.3f GHz** (${cost.clockSource}) where a column says \"at fmax\"; at the dissertation's 1.5 GHz where it says so, to compare cycles alone. The dissertation's figures are at 90 nm and 1.5 GHz.")
       line()
     }
@@ -108,12 +143,12 @@ object ResultsDoc {
     def table48(): Unit = {
       line("## Table 4.8: cycles and throughput, Cornell box 2k")
       line()
-      line("| TSMs/SOMs/SOAs | cycles (diss.) | cycles (ours) | ours / diss. | BSO/s (diss., 1.5 GHz) | BSO/s (ours, 1.5 GHz) | BSO/s (ours, at fmax) |")
-      line("|---|---:|---:|---:|---:|---:|---:|")
+      line("| TSMs/SOMs/SOAs | cycles (diss.) | cycles (ours) | ours / diss. | BSO/s (diss., 1.5 GHz) | BSO/s (ours, 1.5 GHz) | BSO/s (ours, at fmax) |" + besideHead)
+      line("|---|---:|---:|---:|---:|---:|---:|" + besideRule)
       for ((c, cyc, bso) <- Dissertation.table48 if byKey("cornell-2k").contains(c)) {
         val s = stats("cornell-2k", c)
         line(s"| ${label(c)} | ${n(cyc)} | ${s.map(x => n(x.cycles)).getOrElse("—")} | ${opt(s.map(_.cycles.toDouble / cyc))} | ${d(bso)} | " +
-          s"${opt(s.map(_.soPerCycle * dc))} | ${opt(s.map(_.soPerCycle * clk))} |")
+          s"${opt(s.map(_.soPerCycle * dc))} | ${opt(s.map(_.soPerCycle * clk))} |" + besideCells("cornell-2k", c))
       }
       line()
     }
@@ -139,12 +174,12 @@ object ResultsDoc {
       for ((w, rs) <- rows if w.key != "cornell-2k") {
         line(s"### ${w.title}")
         line()
-        line("| setup | cycles (diss.) | cycles (ours) | ours / diss. | TP (diss., 1.5 GHz) | TP (ours, 1.5 GHz) | TP (ours, at fmax) |")
-        line("|---|---:|---:|---:|---:|---:|---:|")
+        line("| setup | cycles (diss.) | cycles (ours) | ours / diss. | TP (diss., 1.5 GHz) | TP (ours, 1.5 GHz) | TP (ours, at fmax) |" + besideHead)
+        line("|---|---:|---:|---:|---:|---:|---:|" + besideRule)
         for (((c, (cyc, tp)), i) <- Dissertation.table411Configs.zip(Dissertation.table411(w.key)).zipWithIndex if rs.exists(_.c == c)) {
           val s = stats(w.key, c)
           line(s"| ${label(c)} | ${n(cyc)} | ${s.map(x => n(x.cycles)).getOrElse("—")} | ${opt(s.map(_.cycles.toDouble / cyc))} | ${d(tp)}${if (w.key == "cornell-8k" && i == 1) " (sic)" else ""} | " +
-            s"${opt(s.map(_.soPerCycle * dc))} | ${opt(s.map(_.soPerCycle * clk))} |")
+            s"${opt(s.map(_.soPerCycle * dc))} | ${opt(s.map(_.soPerCycle * clk))} |" + besideCells(w.key, c))
         }
         line()
       }
@@ -214,6 +249,12 @@ object ResultsDoc {
             "does not describe a port limit. "
           else "In these runs the L2's ports stay below half a request per cycle each and are not the bound. ") +
           "`--sop-l1` and `--sop-l2` on `sweep` and `render` vary the caches.")
+      }
+      for (b <- beside) {
+        val at16 = for ((w, _) <- rows; x <- stats(w.key, c16); y <- b.of(w.key, c16)) yield (w, x, y)
+        if (at16.nonEmpty) line(s"- **The memory hierarchy.** Ours against ${b.label} at 16/16/2, SO/cycle: " + at16.map { case (w, x, y) =>
+          f"${w.title}: ${x.soPerCycle}%.2f against ${y.soPerCycle}%.2f (${y.cycles.toDouble / x.cycles}%.2fx)" }.mkString("; ") +
+          ". docs/uncore.md measures each part of the hierarchy on its own.")
       }
       line(f"- **Node and clock.** Our cells are OSU's 0.18 um library (typical corner, 1.8 V), not the dissertation's 90 nm; our units close at " +
         f"${cost.soa.fmaxGHz * 1000}%.0f MHz (SOA) and ${cost.tsa.fmaxGHz * 1000}%.0f MHz (TSA), not 1.5 GHz. Area and power per unit are therefore " +

@@ -67,6 +67,16 @@ final class RunArchive(val dir: Path) {
     }
   }
 
+  /** The harness stats of the kept run of (workload, c), whatever its key: the figures of another
+    * full run (other code or options), shown beside this one's and never taken as this one's. */
+  def keptStats(workload: String, c: (Int, Int, Int)): Option[HarnessStats] = {
+    val f = file(workload, c)
+    if (!Files.isRegularFile(f)) None else {
+      val j = try ujson.read(Files.readAllBytes(f)) catch { case e: Exception => MapmError.fail(s"$f: unreadable (${e.getMessage})") }
+      Some(HarnessStats.parse(ujson.write(j.obj.getOrElse("stats", ujson.Null)), s"$f (its stats)"))
+    }
+  }
+
   /** Removes every record and part (a fresh full run). */
   def clear(): Unit = if (Files.isDirectory(dir)) {
     val all = Files.walk(dir).iterator.asScala.toSeq.sortBy(-_.getNameCount)

@@ -72,4 +72,49 @@ class ResultsDocSpec extends AnyFunSuite {
     for (f <- pngs) assert(md.contains(s"](results/${f.getFileName})"))
     for (w <- ws) assert(Files.isRegularFile(dir.resolve(s"results/${w.key}-sweep.csv")))
   }
+
+  test("--beside: another run's kept cycles stand beside ours in Tables 4.8 and 4.11, its ratio to ours, and the 16/16/2 SO/cycle of both") {
+    val dir = Paths.get("target/results-doc-beside")
+    mapm.sim.AtomicDir.delete(dir)
+    val ws = Workloads.of(quick = true)
+    // the other run: kept as evaluate keeps it, beside its page, with 3x ours' cycles at 16/16/2 and 2x at 4/4/2 (no 4/4/2 for the atrium)
+    val other = dir.resolve("other/results.md")
+    val archive = RunArchive.beside(other)
+    for (w <- ws; c <- w.configs if !(w.key == "sponza-atrium" && c == (4, 4, 2))) {
+      val run = dir.resolve(s"ran/${w.key}-${c._1}")
+      Files.createDirectories(run)
+      SweepReport.writeResult(run, SweepReport.TaskResult("x", c._1, c._2, c._3, passed = true, "", Seq.empty))
+      val cy = (if (c == (16, 16, 2)) 3000L else 2000L) * (ws.indexOf(w) + 1)
+      Files.write(run.resolve("stats.json"), ujson.write(mapm.testutil.StatsFixture.json(cy, 12 * cy / 3, cy, cy, 10)).getBytes("UTF-8"))
+      archive.save(w.key, c, "another key", 1, run)
+    }
+    val b = ResultsDoc.Beside.load(s"table4.2=$other", ws)
+    assert(b.label == "table4.2" && b.stats.size == 7)
+    // ours: 1,000 x (workload's index + 1) cycles, 12 SO/cycle
+    val rows = ws.map(w => w -> w.configs.map { c =>
+      val cy = 1000L * (ws.indexOf(w) + 1)
+      SweepReport.Row(c, SweepReport.TaskResult(s"${c._1}/${c._2}/${c._3}", c._1, c._2, c._3, passed = true, "", Seq.empty),
+        Some(stats(cy, 12 * cy, 3 * cy, 2 * cy, 1)))
+    })
+    val unit = (u: String) => UnitCostCache.Figures(u, u.toUpperCase + "_x", 0.3, 1e6, 1, 0.5, "test", dir.resolve(s"$u.json"))
+    val cost = SweepReport.Cost(unit("soa"), unit("tsa"), 0.3, "fmax")
+    val md = ResultsDoc.markdown(rows, cost, quick = true, mapm.pipeline.RunSettings("test-scenes/cornell-box/scene.json", None,
+      mapm.format.SlotLayout.Packed, 3, mapm.numerics.Arith.Online, mapm.params.Fidelity.Timing, mapm.sim.Harness.RunOptions(),
+      "out", 1, mapm.pipeline.Tuning()), Seq.empty, dir.resolve("results.md"), Seq.empty, Some(b))
+    assert(md.contains(s"the run of [$other]($other) (**table4.2**, its 7 runs kept"), md)
+    assert(md.contains("| BSO/s (ours, at fmax) | cycles (table4.2) | table4.2 / ours |") && md.contains("| TP (ours, at fmax) | cycles (table4.2) | table4.2 / ours |"))
+    // Table 4.8 (Cornell 2k, the first workload): 1,000 cycles of ours, 3,000 and 2,000 of the other's
+    assert(md.contains("| 16/16/2 | 476,341 | 1,000 | 0.002 | 26.012 | 18.000 | 3.600 | 3,000 | 3.000 |"), md)
+    assert(md.contains("| 4/4/2 | 1,760,068 | 1,000 | 0.001 | 7.040 | 18.000 | 3.600 | 2,000 | 2.000 |"), md)
+    // Table 4.11, the atrium (the fourth workload): 4,000 cycles of ours; its 4/4/2 is not kept beside
+    assert(md.contains("| 4/4/2 | 5,014,895 | 4,000 | 0.001 | 6.594 | 18.000 | 3.600 | — | — |"), md)
+    assert(md.contains("| 16/16/2 | 1,338,924 | 4,000 | 0.003 | 24.698 | 18.000 | 3.600 | 12,000 | 3.000 |"), md)
+    // the 16/16/2 SO/cycle of both: ours 12, the other's 4 (12 x cy / 3 SOs in cy cycles)
+    assert(md.contains("- **The memory hierarchy.** Ours against table4.2 at 16/16/2, SO/cycle: Cornell box, 2k photons: 12.00 against 4.00 (3.00x)"), md)
+    // a wrong --beside is a one-line error before any run
+    def err(spec: String) = intercept[mapm.MapmError](ResultsDoc.Beside.load(spec, ws)).getMessage
+    assert(err("docs/results.md").contains("--beside takes LABEL=PAGE"))
+    assert(err("a|b=x.md").contains("the label 'a|b' must be non-empty and free of | and `"))
+    assert(err(s"t=${dir.resolve("none/results.md")}").contains("no run archive at"))
+  }
 }
