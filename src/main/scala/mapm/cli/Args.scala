@@ -204,9 +204,9 @@ object Args {
     val c = one.caches
     val banks16 = Scalable.sopL2Banks(MapmParams.dissertation.counts, c.sopL2)
     Map("--rq-depth" -> one.queues.registerQueueDepth.toString, "--rs-entries" -> s"${one.queues.rsEntries} per SOA",
-      "--ts-l1" -> geometry(c.tsL1), "--ts-l2" -> geometry(c.tsL2), "--soq" -> s"${geometry(Scalable.soq)}; $Table42: ${geometry(Table42.soq)}",
+      "--ts-l1" -> s"${geometry(Scalable.tsL1)}; $Table42: ${geometry(Table42.tsL1)}", "--ts-l2" -> geometry(c.tsL2), "--soq" -> s"${geometry(Scalable.soq)}; $Table42: ${geometry(Table42.soq)}",
       "--sop-l1" -> geometry(c.sopL1), "--sop-l2" -> geometry(c.sopL2), "--mem-outstanding" -> one.memory.maxOutstanding.toString,
-      "--sop-l2-banks" -> s"one per four SOP L1 banks, $banks16 at 16/16/2; $Table42: 1", "--ts-l2-banks" -> "1",
+      "--sop-l2-banks" -> s"one per two SOP L1 banks, $banks16 at 16/16/2; $Table42: 1", "--ts-l2-banks" -> "1",
       "--query-order" -> s"morton; host with --hierarchy $Table42", "--fidelity" -> mapm.params.Fidelity.Full.name)
   }
 

@@ -21,7 +21,7 @@ final case class HwOptions(
     @arg(name = "sop-l1", doc = "SOP L1 per SOM, split into one bank per SOA") sopL1: Option[CacheSpec] = None,
     @arg(name = "sop-l2", doc = "shared SOP L2") sopL2: Option[CacheSpec] = None,
     @arg(doc = "requests in flight at once on the memory port") memOutstanding: Option[Int] = None,
-    @arg(doc = "memory hierarchy: scalable (the SOP L2 in banks, one per four SOP L1 banks, and a 4-way SOQ; docs/uncore.md) or table4.2 (the dissertation's: shared L2s, a direct-mapped SOQ, and the host's query order unless --query-order says otherwise)") hierarchy: Hierarchy = Hierarchy.Scalable,
+    @arg(doc = "memory hierarchy: scalable (the SOP L2 in banks, one per two SOP L1 banks, a 4-way SOQ and TS L1s of 64-byte lines; docs/uncore.md) or table4.2 (the dissertation's: shared L2s, a direct-mapped SOQ, and the host's query order unless --query-order says otherwise)") hierarchy: Hierarchy = Hierarchy.Scalable,
     @arg(name = "sop-l2-banks", doc = "SOP L2 banks: 1 is one shared cache with one port (Table 4.2's); 2, 4 ... 64 split it by line address, each bank with its own port, behind a registered network") sopL2Banks: Option[Int] = None,
     @arg(name = "ts-l2-banks", doc = "TS L2 banks, as --sop-l2-banks") tsL2Banks: Option[Int] = None,
     @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag()) {

@@ -173,20 +173,23 @@ final case class UncoreParams(
 /** The memory hierarchy a configuration is built with: the dissertation's (Table 4.2: one shared
   * TS L2 and one shared SOP L2, each taking one request a cycle, a direct-mapped SOQ cache) or
   * this project's scalable one (docs/uncore.md: the SOP L2 in address-interleaved banks, one per
-  * four SOP L1 banks, and a 4-way SOQ cache), which keeps a 16/16/2 busy once the photon map no
-  * longer fits its SOP L1s. Both keep Table 4.2's capacities and line sizes. */
+  * two SOP L1 banks, a 4-way SOQ cache and TS L1s of 64-byte lines), which keeps a 16/16/2 busy
+  * once the photon map no longer fits its SOP L1s. Both keep Table 4.2's capacities. */
 sealed abstract class Hierarchy(name: String) extends mapm.Choice(name) {
   /** The SOQ cache's geometry. */
   def soq: CacheParams
+  /** Each TSM's TS L1's geometry. */
+  def tsL1: CacheParams
   /** The L2 structures for module counts `c` and an SOP L2 of geometry `sopL2`. */
   def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams
-  /** `p` with this hierarchy's L2 structures and SOQ geometry, for `p`'s module counts and SOP L2. */
+  /** `p` with this hierarchy's L2 structures, SOQ and TS L1 geometries, for `p`'s module counts and SOP L2. */
   def apply(p: MapmParams): MapmParams =
-    p.copy(caches = p.caches.copy(soq = soq), uncore = uncore(p.counts, p.caches.sopL2))
+    p.copy(caches = p.caches.copy(soq = soq, tsL1 = tsL1), uncore = uncore(p.counts, p.caches.sopL2))
 }
 object Hierarchy extends mapm.Choices[Hierarchy] {
   case object Table42 extends Hierarchy("table4.2") {
     val soq: CacheParams = CachesParams().soq
+    val tsL1: CacheParams = CachesParams().tsL1
     def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams = UncoreParams()
   }
   case object Scalable extends Hierarchy("scalable") {
@@ -194,11 +197,16 @@ object Hierarchy extends mapm.Choices[Hierarchy] {
       * order when the host streams its queries in Morton order; a direct-mapped SOQ stalls its
       * lookup whenever a read's set still waits for another record (docs/uncore.md). */
     val soq: CacheParams = CacheParams(16 * 1024, 32, 4)
-    /** SOP L2 banks: one per four SOP L1 banks, rounded down to a power of two (so shared below
-      * eight SOP L1 banks), at most [[L2Structure.Banked.MaxBanks]] and at most what the SOP L2's
+    /** The TS L1: Table 4.2's capacity and ways, 64-byte lines (the TS L2's). The KD tree is stored
+      * depth first, so a line holds a node's left subtree's next nodes: on the 8k-photon Cornell box
+      * at 16/16/2 the longer line cuts the TS L1's misses by 43 % and the TSMs' node-data waits by
+      * 84 % (docs/uncore.md), with half the tags. */
+    val tsL1: CacheParams = CacheParams(16 * 1024, 64, 2)
+    /** SOP L2 banks: one per two SOP L1 banks, rounded down to a power of two (so shared below
+      * four SOP L1 banks), at most [[L2Structure.Banked.MaxBanks]] and at most what the SOP L2's
       * geometry `g` splits into (two lines and a set a bank). */
     def sopL2Banks(c: ModuleCounts, g: CacheParams): Int = {
-      val want = math.min(L2Structure.Banked.MaxBanks, Integer.highestOneBit(math.max(1, c.som * c.soaPerSom / 4)))
+      val want = math.min(L2Structure.Banked.MaxBanks, Integer.highestOneBit(math.max(1, c.som * c.soaPerSom / 2)))
       Iterator.iterate(want)(_ / 2).find(n => n == 1 || L2Structure.splits(g, n)).get
     }
     def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams = {

@@ -134,7 +134,7 @@ object Configure {
           u.copy(tsL2 = t.tsL2Banks.map(l2Structure("ts-l2-banks", _)).getOrElse(u.tsL2),
             sopL2 = t.sopL2Banks.map(l2Structure("sop-l2-banks", _)).getOrElse(u.sopL2))
         },
-        caches = CachesParams(tsL1 = fit("ts-l1", c.tsL1, t.tsL1, r.node.bytes), tsL2 = fit("ts-l2", c.tsL2, t.tsL2, 0),
+        caches = CachesParams(tsL1 = fit("ts-l1", h.tsL1, t.tsL1, r.node.bytes), tsL2 = fit("ts-l2", c.tsL2, t.tsL2, 0),
           soq = fit("soq", h.soq, t.soq, r.queryHwBytes), sopL1 = fit("sop-l1", c.sopL1, t.sopL1, r.photon.bytes),
           sopL2 = sopL2),
         queues = base.queues.copy(registerQueueDepth = t.registerQueueDepth.getOrElse(base.queues.registerQueueDepth),

@@ -63,9 +63,9 @@ class ResultsDocSpec extends AnyFunSuite {
     assert(md.contains("its Cornell 2k total is 18.0 bytes per query, less than one 32-byte line per query"))
     assert(!md.contains("(sic)"), "the quick run has no 1/1/3 row")
     // 1,000 SOP L2 requests (900 hits, 100 misses) in 238,170 cycles: the ports are not the bound, and the page says so,
-    // naming the structure the settings build (the scalable hierarchy: 8 banks at 16/16/2) and the SOQ's 4 ways
+    // naming the structure the settings build (the scalable hierarchy: 16 banks at 16/16/2) and the SOQ's 4 ways
     assert(md.contains("Cornell box, 2k photons: SOP L1 hit rate 90.0 %, 0.004 SOP L2 requests per cycle") && md.contains("the L2's ports stay below half a request per cycle each and are not the bound"))
-    assert(md.contains("Every SOP L1 miss goes to its line's bank of the SOP L2, 8 banks that each take one request per cycle") && md.contains("through the SOQ, a 4-way 16 KiB cache"), md)
+    assert(md.contains("Every SOP L1 miss goes to its line's bank of the SOP L2, 16 banks that each take one request per cycle") && md.contains("through the SOQ, a 4-way 16 KiB cache"), md)
     // charts: four per workload, on disk and linked relative to the page; one CSV per workload
     val pngs = files.filter(_.toString.endsWith(".png"))
     assert(pngs.size == 16 && pngs.forall(f => Files.size(f) > 0))

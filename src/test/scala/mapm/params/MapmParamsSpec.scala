@@ -25,7 +25,7 @@ class MapmParamsSpec extends AnyFunSuite {
   test("Table 4.8 presets cover its 24 rows") {
     assert(MapmParams.presets.size == 24)
     assert(MapmParams.presets("16/16/3").counts == ModuleCounts(16, 16, 3))
-    assert(MapmParams.default.name == "t16s16a2_e8m23_g3_b8" && MapmParams.dissertation.name == "t16s16a2_e8m23_g3")
+    assert(MapmParams.default.name == "t16s16a2_e8m23_g3_b16" && MapmParams.dissertation.name == "t16s16a2_e8m23_g3")
     // A lighter stage weight deepens the cond check's units (FpuDepth.of: fp32 at 1.0 per stage).
     val deep = MapmParams(numbers = NumberParams(fpuStageWeight = 1.0))
     assert(mapm.fpu.FpuDepth.of(FloatFormat.fp32, deep.numbers.fpuStageWeight) == mapm.fpu.FpuDepth(11, 14, 1, 33))
@@ -35,8 +35,8 @@ class MapmParamsSpec extends AnyFunSuite {
   test("presets: the default is the dissertation's MAPM with the scalable hierarchy, and the small one is what the command line's 1/1/1 gives") {
     // Table 4.8's 16/16/2 with 8 reservation-station entries per SOA is the dissertation's MAPM (section 4.1).
     assert(MapmParams.dissertation == MapmParams.presets("16/16/2"))
-    assert(MapmParams.default == MapmParams.dissertation.copy(uncore = UncoreParams(sopL2 = L2Structure.Banked(8)),
-      caches = MapmParams.dissertation.caches.copy(soq = CacheParams(16384, 32, 4))))
+    assert(MapmParams.default == MapmParams.dissertation.copy(uncore = UncoreParams(sopL2 = L2Structure.Banked(16)),
+      caches = MapmParams.dissertation.caches.copy(soq = CacheParams(16384, 32, 4), tsL1 = CacheParams(16384, 64, 2))))
     assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3) == MapmParams.default)
     assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(hierarchy = Hierarchy.Table42)) == MapmParams.dissertation)
     assert(MapmParams.dissertation.counts == ModuleCounts(16, 16, 2) && MapmParams.dissertation.queues.rsEntries == 16)
@@ -56,21 +56,22 @@ class MapmParamsSpec extends AnyFunSuite {
            (FloatFormat(10, 40), Packed) -> (8, 16, 64, 32, 64), (FloatFormat.fp64, Wide) -> (8, 16, 64, 32, 64))) {
       val p = Configure.of(4, 4, 2, f, 3, layout = layout)
       assert(p.slotBytes == slot && p.records.node.bytes == node && p.records.photon.bytes == photon && p.records.queryHwBytes == soqWord, s"$f $layout")
-      assert(p.caches.sopL1.lineBytes == sopLine && p.caches.tsL1.lineBytes == 32 && p.caches.soq.lineBytes == 32, s"$f $layout")
+      assert(p.caches.sopL1.lineBytes == sopLine && p.caches.tsL1.lineBytes == 64 && p.caches.soq.lineBytes == 32, s"$f $layout")
       assert(p.name.contains("_wide") == (layout == Wide && f.width <= 16), p.name)
     }
   }
 
-  test("the scalable hierarchy: an SOP L2 bank per four SOP L1 banks (a power of two, at most 64, at most what the SOP L2 splits into)") {
+  test("the scalable hierarchy: an SOP L2 bank per two SOP L1 banks (a power of two, at most 64, at most what the SOP L2 splits into), TS L1s of 64-byte lines") {
     val table42 = CachesParams().sopL2
-    // (TSMs, SOMs, SOAs) -> banks: 32 SOP L1 banks -> 8; 48 -> 12 -> 8; 6 -> 1 (shared); 1024 x 16 -> 64.
-    for (((t, s, a), want) <- Seq((16, 16, 2) -> 8, (16, 16, 3) -> 8, (8, 8, 2) -> 4, (4, 4, 2) -> 2, (2, 3, 2) -> 1, (1, 1, 1) -> 1,
-                                  (1024, 1024, 16) -> 64))
+    // (TSMs, SOMs, SOAs) -> banks: 32 SOP L1 banks -> 16; 48 -> 24 -> 16; 6 -> 3 -> 2; 3 -> 1 (shared); 1024 x 16 -> 64.
+    for (((t, s, a), want) <- Seq((16, 16, 2) -> 16, (16, 16, 3) -> 16, (8, 8, 2) -> 8, (4, 4, 2) -> 4, (2, 3, 2) -> 2, (2, 1, 3) -> 1,
+                                  (1, 1, 1) -> 1, (1024, 1024, 16) -> 64))
       assert(Hierarchy.Scalable.sopL2Banks(ModuleCounts(t, s, a), table42) == want, s"$t/$s/$a")
     // A small set-associative SOP L2 caps the banks: 4 sets take 4 banks at most.
     assert(Hierarchy.Scalable.sopL2Banks(ModuleCounts(16, 16, 2), CacheParams(4096, 64, 16)) == 4)
     val p = Hierarchy.Scalable(MapmParams.table48(8, 8, 2))
-    assert(p.uncore.sopL2 == L2Structure.Banked(4) && p.uncore.tsL2 == L2Structure.Shared && p.caches.soq.ways == 4)
+    assert(p.uncore.sopL2 == L2Structure.Banked(8) && p.uncore.tsL2 == L2Structure.Shared && p.caches.soq.ways == 4)
+    assert(p.caches.tsL1 == CacheParams(16384, 64, 2) && Hierarchy.Table42.tsL1 == CachesParams().tsL1)
     assert(Hierarchy.Table42(p) == MapmParams.table48(8, 8, 2))
   }
 

@@ -35,13 +35,14 @@ class ConfigureSpec extends AnyFunSuite {
     val e = intercept[mapm.MapmError](Configure.of(1, 1, 1, FloatFormat.fp64, 3, tuning = Tuning(sopL1 = CacheSpec.parse("64K/32/2"))))
     assert(e.getMessage.contains("SOP L1 line of 32 bytes is shorter than a 64-byte photon record"), e.getMessage)
     val f = intercept[mapm.MapmError](Configure.of(1, 1, 1, FloatFormat.fp32, 3, tuning = Tuning(tsL1 = CacheSpec.parse("15K"))))
-    assert(f.getMessage == "configuration 1/1/1 e8m23: --ts-l1: cache set count must be a power of two, got 240 (size 15360, line 32, ways 2)", f.getMessage)
+    assert(f.getMessage == "configuration 1/1/1 e8m23: --ts-l1: cache set count must be a power of two, got 120 (size 15360, line 64, ways 2)", f.getMessage)
   }
 
   test("--sop-l2-banks: 1 is the shared SOP L2, a power of two up to 64 banks; anything else a one-line error naming it") {
     def banks(n: Int) = Configure.of(2, 2, 2, FloatFormat.fp32, 3, tuning = Tuning(sopL2Banks = Some(n)))
     def tsBanks(n: Int) = Configure.of(2, 2, 2, FloatFormat.fp32, 3, tuning = Tuning(tsL2Banks = Some(n)))
-    assert(banks(1).uncore.sopL2 == L2Structure.Shared && banks(1) == Configure.of(2, 2, 2, FloatFormat.fp32, 3))
+    // 2/2/2 has four SOP L1 banks, so the scalable hierarchy gives it two SOP L2 banks; 1 shares it
+    assert(banks(1).uncore.sopL2 == L2Structure.Shared && banks(2) == Configure.of(2, 2, 2, FloatFormat.fp32, 3))
     for (n <- Seq(2, 4, 8, 16, 32, 64)) {
       val p = banks(n)
       assert(p.uncore.sopL2 == L2Structure.Banked(n) && p.name.endsWith(s"_b$n"))
