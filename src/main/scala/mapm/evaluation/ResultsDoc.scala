@@ -71,7 +71,7 @@ object ResultsDoc {
     * `beside`: another run whose cycles Tables 4.8 and 4.11 show beside these. */
   def markdown(rows: Rows, cost: SweepReport.Cost, quick: Boolean, settings: RunSettings, parts: Seq[RunArchive.Part],
                file: Path, charts: Seq[(Workloads.Workload, Seq[Path])], beside: Option[Beside] = None): String = {
-    val page = new Page(rows, cost, settings, beside)
+    val page = new Page(rows, cost, settings, beside, file)
     page.header(settings.fidelity, quick, parts)
     page.table410(); page.table48(); page.table49(); page.table411(); page.table413()
     page.differences()
@@ -80,7 +80,7 @@ object ResultsDoc {
   }
 
   /** The page as it is written, a section at a time. */
-  private final class Page(rows: Rows, cost: SweepReport.Cost, settings: RunSettings, beside: Option[Beside]) {
+  private final class Page(rows: Rows, cost: SweepReport.Cost, settings: RunSettings, beside: Option[Beside], file: Path) {
     private val sb = new StringBuilder
     private def line(s: String = ""): Unit = sb ++= s + "\n"
     private val byKey = rows.map { case (w, rs) => w.key -> rs.map(r => r.c -> r).toMap }.toMap
@@ -115,7 +115,9 @@ object ResultsDoc {
       line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")
       line(s"- Number format ${settings.format.map(_.toString).getOrElse("fp32")}, g = ${settings.g}, ${settings.arith} arithmetic; ${settings.tuning.summary}; the queries streamed in ${settings.queryOrder} order; memory latency ${settings.harness.latency} cycles, ${settings.harness.bandwidth} bytes/cycle.")
       line(f"- Cost by the dissertation's method (Table 4.9: unit figures times counts), from our open flow (yosys, OpenSTA, OSU 0.18 um): ${cost.soa.top} ${cost.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.soa.fmaxGHz * 1000}%.0f MHz, ${cost.soa.dynamicPjPerCycle}%.0f pJ/cycle; ${cost.tsa.top} ${cost.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.tsa.fmaxGHz * 1000}%.0f MHz, ${cost.tsa.dynamicPjPerCycle}%.0f pJ/cycle (docs/cost.md).")
-      for (b <- beside) line(s"- Beside ours, the run of [${b.page}](${b.page}) (**${b.label}**, its ${b.stats.size} runs kept in its results/runs/, " +
+      // the other page, linked relative to this one
+      def link(page: String) = Option(file.toAbsolutePath.getParent).map(_.relativize(Paths.get(page).toAbsolutePath).toString).getOrElse(page)
+      for (b <- beside) line(s"- Beside ours, the run of [${b.page}](${link(b.page)}) (**${b.label}**, its ${b.stats.size} runs kept in its results/runs/, " +
         s"made with other code or options): its cycles in the columns \"cycles (${b.label})\", and its cycles over ours in \"${b.label} / ours\" (above 1: ours take fewer cycles).")
       line(f"- Throughput, power and GB/s of ours at **$clk%.3f GHz** (${cost.clockSource}) where a column says \"at fmax\"; at the dissertation's 1.5 GHz where it says so, to compare cycles alone. The dissertation's figures are at 90 nm and 1.5 GHz.")
       line()

@@ -101,7 +101,7 @@ class ResultsDocSpec extends AnyFunSuite {
     val md = ResultsDoc.markdown(rows, cost, quick = true, mapm.pipeline.RunSettings("test-scenes/cornell-box/scene.json", None,
       mapm.format.SlotLayout.Packed, 3, mapm.numerics.Arith.Online, mapm.params.Fidelity.Timing, mapm.sim.Harness.RunOptions(),
       "out", 1, mapm.pipeline.Tuning()), Seq.empty, dir.resolve("results.md"), Seq.empty, Some(b))
-    assert(md.contains(s"the run of [$other]($other) (**table4.2**, its 7 runs kept"), md)
+    assert(md.contains(s"the run of [$other](other/results.md) (**table4.2**, its 7 runs kept"), md) // linked relative to the page
     assert(md.contains("| BSO/s (ours, at fmax) | cycles (table4.2) | table4.2 / ours |") && md.contains("| TP (ours, at fmax) | cycles (table4.2) | table4.2 / ours |"))
     // Table 4.8 (Cornell 2k, the first workload): 1,000 cycles of ours, 3,000 and 2,000 of the other's
     assert(md.contains("| 16/16/2 | 476,341 | 1,000 | 0.002 | 26.012 | 18.000 | 3.600 | 3,000 | 3.000 |"), md)
