@@ -75,7 +75,7 @@ object ResultsDoc {
     page.header(settings.fidelity, quick, parts)
     page.table410(); page.table48(); page.table49(); page.table411(); page.table413()
     page.differences()
-    page.charts(file, charts)
+    page.charts(charts)
     page.text
   }
 
@@ -94,6 +94,8 @@ object ResultsDoc {
     private val soqLine = p16.caches.soq.lineBytes
 
     def text: String = sb.toString
+    /** The page's folder: the charts and the page beside it are linked relative to it. */
+    private val base = Option(file.toAbsolutePath.getParent).getOrElse(file.toAbsolutePath)
 
     /** The column heads and cells of the run beside ours, for workload `w`, configuration `c`. */
     private def besideHead: String = beside.map(b => s" cycles (${b.label}) | ${b.label} / ours |").getOrElse("")
@@ -115,9 +117,7 @@ object ResultsDoc {
       line(s"- Every run is checked as `render` checks it: ${if (fidelity == Fidelity.Timing) "in timing fidelity (the SOAs as their cycle-exact delay-line model, proved equal in cycles and counters by MapmRtlSpec): the (q, photon) results, counts and cycles checked, colours taken from the model" else "full RTL: every shader operation's colour bit-exact against the model, the frame bit-equal"}.")
       line(s"- Number format ${settings.format.map(_.toString).getOrElse("fp32")}, g = ${settings.g}, ${settings.arith} arithmetic; ${settings.tuning.summary}; the queries streamed in ${settings.queryOrder} order; memory latency ${settings.harness.latency} cycles, ${settings.harness.bandwidth} bytes/cycle.")
       line(f"- Cost by the dissertation's method (Table 4.9: unit figures times counts), from our open flow (yosys, OpenSTA, OSU 0.18 um): ${cost.soa.top} ${cost.soa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.soa.fmaxGHz * 1000}%.0f MHz, ${cost.soa.dynamicPjPerCycle}%.0f pJ/cycle; ${cost.tsa.top} ${cost.tsa.areaUm2 / 1e6}%.4f mm^2, fmax ${cost.tsa.fmaxGHz * 1000}%.0f MHz, ${cost.tsa.dynamicPjPerCycle}%.0f pJ/cycle (docs/cost.md).")
-      // the other page, linked relative to this one
-      def link(page: String) = Option(file.toAbsolutePath.getParent).map(_.relativize(Paths.get(page).toAbsolutePath).toString).getOrElse(page)
-      for (b <- beside) line(s"- Beside ours, the run of [${b.page}](${link(b.page)}) (**${b.label}**, its ${b.stats.size} runs kept in its results/runs/, " +
+      for (b <- beside) line(s"- Beside ours, the run of [${b.page}](${base.relativize(Paths.get(b.page).toAbsolutePath)}) (**${b.label}**, its ${b.stats.size} runs kept in its results/runs/, " +
         s"made with other code or options): its cycles in the columns \"cycles (${b.label})\", and its cycles over ours in \"${b.label} / ours\" (above 1: ours take fewer cycles).")
       line(f"- Throughput, power and GB/s of ours at **$clk%.3f GHz** (${cost.clockSource}) where a column says \"at fmax\"; at the dissertation's 1.5 GHz where it says so, to compare cycles alone. The dissertation's figures are at 90 nm and 1.5 GHz.")
       line()
@@ -266,11 +266,10 @@ object ResultsDoc {
       line()
     }
 
-    /** The charts, linked relative to the page `file`. */
-    def charts(file: Path, charts: Seq[(Workloads.Workload, Seq[Path])]): Unit = {
+    /** The charts, linked relative to the page. */
+    def charts(charts: Seq[(Workloads.Workload, Seq[Path])]): Unit = {
       line("## Charts (Figures 4.9-4.20)")
       line()
-      val base = Option(file.toAbsolutePath.getParent).getOrElse(file.toAbsolutePath)
       for ((w, fs) <- charts) {
         line(s"### ${w.title}")
         line()
