@@ -1,4 +1,5 @@
-// Checks the top's result beats against the expected SOs, adds the colours of those whose cond
+// Checks the top's result beats against the expected SOs (and each beat's pixel against its query
+// record's), adds the colours of those whose cond
 // holds into their pixels exactly, and counts the queries complete (taken, every SO seen).
 // With MAPM_FIDELITY_TIMING (SOAs replaced by their timing model, which computes no colour) a beat
 // is checked for its (q, photon) alone, and its colour, flags and cond are the expected SO's.
@@ -31,6 +32,8 @@ class Checker {
     };
     if (i < 0) return (dup ? "duplicate " : "unexpected ") + so() + ": " + describe(o);
     const SoRecord& r = exp_.rec[i];
+    if (o.pixel != img_.pixel(o.q))
+      return "wrong pixel on " + so() + ": " + std::to_string(o.pixel) + ", its query record says " + std::to_string(img_.pixel(o.q));
 #if MAPM_FIDELITY_TIMING
     const bool cond = r.cond();
     const uint64_t* colour = r.colour;

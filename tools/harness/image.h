@@ -50,10 +50,6 @@ struct Image {
     return {{IMAGE_BYTES, photonBase}, {photonBase, queryBase}, {queryBase, streamBase}};
   }
   uint32_t pixel(uint32_t q) const { return query_pixel(&bytes[queryBase + (uint64_t)query_bytes(slot) * q], slot); }
-  // Stream entry k: the position to send with the query, and the query's index.
-  const uint8_t* entry(uint32_t k) const { return &bytes[streamBase + (uint64_t)stream_bytes(slot) * k]; }
-  uint64_t streamX(uint32_t k) const { return stream_x(entry(k), slot); }
-  uint64_t streamY(uint32_t k) const { return stream_y(entry(k), slot); }
-  uint64_t streamZ(uint32_t k) const { return stream_z(entry(k), slot); }
-  uint32_t streamQuery(uint32_t k) const { return stream_query(entry(k), slot); }
+  // Stream entry k: the index of the query to run.
+  uint32_t streamQuery(uint32_t k) const { return stream_query(&bytes[streamBase + (uint64_t)stream_bytes(slot) * k], slot); }
 };

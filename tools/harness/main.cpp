@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
     d.reqReady = !(opt.reqStall > 0 && coin(host) < opt.reqStall);
     if (d.queryValid) {
       const uint32_t k = (uint32_t)fed;
-      d.x = img.streamX(k); d.y = img.streamY(k); d.z = img.streamZ(k); d.q = img.streamQuery(k);
+      d.q = img.streamQuery(k);
       if (opt.fault == Fault::QueryIndex && k == 0) d.q = img.queries + 1000;
     }
     d.respValid = dram.present(cycle, beat, &d.respId, &d.respLast);

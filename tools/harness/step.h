@@ -17,7 +17,7 @@
 // The inputs of one cycle.
 struct Drive {
   bool queryValid = false;
-  uint64_t x = 0, y = 0, z = 0, q = 0;
+  uint64_t q = 0;
   bool reqReady = true;
   bool respValid = false;
   const uint8_t* respData = nullptr;
@@ -53,7 +53,7 @@ class Bench {
   void reset(const Image& img) {
     Top* t = top_.get();
     setConfig(t, img.h, IMAGE_BYTES, img.photonBase, img.queryBase, img.nodes);
-    setQuery(t, false, 0, 0, 0, 0);
+    setQuery(t, false, 0);
     const uint8_t zero[MAPM_MEM_DATA_BYTES] = {0};
     setMemResp(t, false, zero, 0, false);
     setMemReqReady(t, true);
@@ -67,7 +67,7 @@ class Bench {
   Sample drive(const Drive& d) {
     Top* t = top_.get();
     setMemReqReady(t, d.reqReady);
-    setQuery(t, d.queryValid, d.x, d.y, d.z, d.q);
+    setQuery(t, d.queryValid, d.q);
     setMemResp(t, d.respValid, d.respData, d.respId, d.respLast);
     half(0);
     Sample s;

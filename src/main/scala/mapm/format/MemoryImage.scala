@@ -12,7 +12,7 @@ import mapm.numerics.{FloatFormat, NodeWord}
   * and writes and reads them through those records.
   *
   * Format values sit in slots of the size `layout` gives the format (2, 4 or 8 bytes), which
-  * sizes the node, photon and query records and the stream entries.
+  * sizes the node, photon and query records; a stream entry is a 4-byte query index.
   */
 final class MemoryImage(
     val format: FloatFormat,
@@ -71,7 +71,6 @@ final class MemoryImage(
     }
     for ((q, k) <- stream.zipWithIndex) {
       val at = streamBase + streamR.bytes.toLong * k
-      for (a <- 0 until 3) streamR.put(b, at, streamPosF(a), position(a)(q))
       streamR.put(b, at, streamQueryF, q.toLong)
     }
     b.array()
@@ -108,7 +107,6 @@ object MemoryImage {
     val contribF: IndexedSeq[Field] = IndexedSeq("contrib_r", "contrib_g", "contrib_b").map(queryR(_))
     val queryPosF: IndexedSeq[Field] = IndexedSeq("x", "y", "z").map(queryR(_))
     val pixelF: Field = queryR("pixel")
-    val streamPosF: IndexedSeq[Field] = IndexedSeq("x", "y", "z").map(streamR(_))
     val streamQueryF: Field = streamR("query")
   }
 
@@ -168,8 +166,6 @@ object MemoryImage {
       val at = shape.streamBase + streamR.bytes.toLong * k
       val q = streamR.get(b, at, streamQueryF)
       if (q >= nq) bad(s"stream entry $k names query $q outside 0..${nq - 1}")
-      for (a <- 0 until 3)
-        if ((streamR.get(b, at, streamPosF(a)) & mask) != shape.position(a)(q.toInt)) bad(s"stream entry $k: position differs from query $q's record")
       shape.stream(k) = q.toInt
     }
     shape

@@ -39,7 +39,7 @@ object MemoryLayout {
     * line of at most this size never reaches past the end of an array's aligned span. */
   val Alignment = 64
   val Magic = "MAPMIMG1"
-  val Version = 2
+  val Version = 3
   /** The slot sizes a layout may use, in bytes. */
   val SlotSizes: Seq[Int] = Seq(2, 4, 8)
 
@@ -68,8 +68,8 @@ object MemoryLayout {
   /** A photon record: eight slots. */
   def photon(slot: Int): Record = { checkSlot(slot); Record("photon", 8 * slot, Record.run(PhotonFields, 0, slot)) }
 
-  /** A query record: the contribution (the part the hardware reads, `queryHwBytes`), then the
-    * position and the pixel index for the host. */
+  /** A query record: the contribution, the position and the pixel index; the hardware reads all
+    * of it (`queryHwBytes`). */
   def query(slot: Int): Record = {
     checkSlot(slot)
     val contrib = Record.run(Seq("contrib_r", "contrib_g", "contrib_b"), 0, slot)
@@ -79,16 +79,12 @@ object MemoryLayout {
     }
   }
 
-  /** Bytes at the start of a query record that the hardware reads (its SOQ cache word): the
-    * contribution rounded up to a power of two (with 2-byte slots that takes in position x). */
-  def queryHwBytes(slot: Int): Int = { checkSlot(slot); Integer.highestOneBit(3 * slot) * 2 }
+  /** Bytes of a query record that the hardware reads (its SOQ cache word): the whole record. */
+  def queryHwBytes(slot: Int): Int = query(slot).bytes
 
-  /** A query-stream entry: the position the host feeds with the query, and its index. */
-  def stream(slot: Int): Record = {
-    checkSlot(slot)
-    val bytes = (4 * slot) max 16
-    Record("stream", bytes, Record.run(Seq("x", "y", "z"), 0, slot) :+ Field("query", bytes - 4, 4))
-  }
+  /** A query-stream entry: the index of the query to run (4 bytes whatever the slot; the query's
+    * position is in its record). `slot` is checked, so that every record takes one. */
+  def stream(slot: Int): Record = { checkSlot(slot); Record("stream", 4, Seq(Field("query", 0, 4))) }
 
   /** `a` rounded up to the next multiple of [[Alignment]]. */
   def align(a: Long): Long = (a + Alignment - 1) / Alignment * Alignment

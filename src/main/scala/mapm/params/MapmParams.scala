@@ -126,10 +126,12 @@ final case class MemoryParams(
 /** Widths of the indices that travel with operations. */
 final case class IndexParams(
     queryBits: Int = 24, // query index width: up to 16 M queries per frame
-    nodeBits: Int = 22   // photon-tree node index width: up to 4 M photons
+    nodeBits: Int = 22,  // photon-tree node index width: up to 4 M photons
+    pixelBits: Int = 24  // pixel index width: up to 16 M pixels per frame
 ) {
   require(queryBits >= 1 && queryBits <= 31, s"query index width must be 1..31, got $queryBits")
   require(nodeBits >= 1 && nodeBits <= 26, s"node index width must be 1..26 (the 8-byte node record's right-child field), got $nodeBits")
+  require(pixelBits >= 1 && pixelBits <= 32, s"pixel index width must be 1..32 (the query record's pixel field), got $pixelBits")
 }
 
 /** What the emitted SOAs compute: `full` (the arithmetic, colours and the distance check) or

@@ -17,21 +17,19 @@ class MapmConfig(p: MapmParams) extends Bundle {
   val nodeCount = UInt((p.indices.nodeBits + 1).W)
 }
 
-/** One tree-search instruction from the host: the query's position and index. */
+/** One tree-search instruction: the index of the query to run (its record holds the rest). */
 class QueryIn(p: MapmParams) extends Bundle {
-  val x = UInt(p.numbers.format.width.W)
-  val y = UInt(p.numbers.format.width.W)
-  val z = UInt(p.numbers.format.width.W)
   val q = UInt(p.indices.queryBits.W)
 }
 
 /** Everything a search and its shader operations need of their query: position, contribution
-  * (read once from the SOQ cache when the query is issued) and index. */
+  * and pixel (its record, read once through the SOQ cache when the query is issued) and index. */
 class QueryData(p: MapmParams) extends Bundle {
   val x = UInt(p.numbers.format.width.W)
   val y = UInt(p.numbers.format.width.W)
   val z = UInt(p.numbers.format.width.W)
   val contrib = Vec(Rgb.Channels, UInt(p.numbers.format.width.W))
+  val pixel = UInt(p.indices.pixelBits.W)
   val q = UInt(p.indices.queryBits.W)
 }
 
@@ -68,11 +66,12 @@ object SoGroup {
 }
 
 /** The result of one shader operation: colour bits and flags per channel (OVF 1, UNF 2, INV 4),
-  * the cond check, and which query and photon it belongs to. */
+  * the cond check, which query and photon it belongs to, and the query's pixel. */
 class SoResult(p: MapmParams) extends Bundle {
   val colour = Vec(Rgb.Channels, UInt(p.numbers.format.width.W))
   val flags = Vec(Rgb.Channels, UInt(3.W))
   val cond = Bool()
+  val pixel = UInt(p.indices.pixelBits.W)
   val q = UInt(p.indices.queryBits.W)
   val photon = UInt(p.indices.nodeBits.W)
 }

@@ -23,13 +23,6 @@ final class Records(val slot: Int) {
   val query: Layout = MemoryLayout.query(slot)
   /** Bytes of a query record the SOQ cache reads. */
   val queryHwBytes: Int = MemoryLayout.queryHwBytes(slot)
-  /** Whether the bytes the SOQ cache reads after the contribution are a reserved gap (zero in a
-    * well-formed image) or, with 2-byte slots, the query's position x (equal in a well-formed
-    * image to the x the host sends with the query). */
-  val queryGapReserved: Boolean = query.fields.forall(f => f.name.startsWith("contrib_") || f.offset >= queryHwBytes)
-  require(queryGapReserved || query.fields.filter(f => !f.name.startsWith("contrib_") && f.offset < queryHwBytes)
-    .map(f => (f.name, f.offset, f.bytes)) == Seq(("x", 3 * slot, queryHwBytes - 3 * slot)),
-    s"the SOQ word of a $slot-byte-slot query record holds a field other than the contribution and position x")
 }
 
 object Records {
@@ -110,16 +103,22 @@ class PhotonRecord(slotBytes: Int, width: Int) extends Bundle {
   Records.requireWidth(this, "photon", layout.bytes)
 }
 
-/** The part of a query record the SOQ cache reads ([[MemoryLayout.queryHwBytes]] bytes): the
-  * contribution per channel (r, g, b) in `slotBytes`-byte slots, then `rest`, the bytes after
-  * it (a reserved zero gap, or with 2-byte slots position x's slot: [[Records.queryGapReserved]]).
-  * `width` is the format's. */
-class QueryHwRecord(slotBytes: Int, width: Int) extends Bundle {
+/** A query record as the SOQ cache reads it (the whole record, docs/memory-layout.md): the
+  * contribution per channel (r, g, b) and the position (x, y, z) in `slotBytes`-byte slots, the
+  * pixel index, and `gap` and `tail`, the unused bytes (zero in a well-formed image). `width` is
+  * the format's. */
+class QueryRecord(slotBytes: Int, width: Int) extends Bundle {
   private val layout = MemoryLayout.query(slotBytes)
-  private val hwBytes = MemoryLayout.queryHwBytes(slotBytes)
-  val rest = UInt((8 * (hwBytes - Rgb.Channels * slotBytes)).W)
+  private val posAt = layout("x").offset
+  private val pixelAt = layout("pixel").offset
+  val tail = UInt((8 * (layout.bytes - pixelAt - 4)).W)
+  val pixel = UInt(32.W)
+  val pos = Vec(3, new FormatSlot(slotBytes, width))
+  val gap = UInt((8 * (posAt - Rgb.Channels * slotBytes)).W)
   val contrib = Vec(Rgb.Channels, new FormatSlot(slotBytes, width))
 
   for ((c, i) <- Rgb.Names.zipWithIndex) Records.requireField(layout, "contrib_" + c, i * slotBytes, slotBytes)
-  Records.requireWidth(this, "query (hardware part)", hwBytes)
+  for ((a, i) <- Seq("x", "y", "z").zipWithIndex) Records.requireField(layout, a, posAt + i * slotBytes, slotBytes)
+  Records.requireField(layout, "pixel", posAt + 3 * slotBytes, 4)
+  Records.requireWidth(this, "query", layout.bytes)
 }

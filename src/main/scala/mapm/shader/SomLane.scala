@@ -25,7 +25,7 @@ class SoOp(p: MapmParams) extends Bundle {
   * record with non-zero bits above a slot's format bits raises the sticky `error`): the
   * operands are then complete (Tomasulo-like, 3.5.1), so an SO never waits once its data is there
   * and the lane never stalls (3.7). The SOA's result leaves on `out` after its fixed latency with
-  * the query and photon indices (carried through the SOA as its tag).
+  * the pixel, query and photon indices (carried through the SOA as its tag).
   *
   * Latency: insert, one cycle to the fetch request, the SOP L1 (3 cycles on a hit), then the SOA
   * ([[SOA.latency]]). Throughput: one SO per cycle.
@@ -57,7 +57,7 @@ class SomLane(p: MapmParams) extends Module {
   io.mem <> l1.io.down
   io.l1 := l1.io.counters
   val soa: ShaderUnit = {
-    val (g, tags, depth) = (p.numbers.guardDigits, p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight)))
+    val (g, tags, depth) = (p.numbers.guardDigits, p.indices.pixelBits + p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight)))
     p.sim.fidelity match {
       case Fidelity.Full => Module(new SOA(fmt, g, tags, depth, p.numbers.arith))
       case Fidelity.Timing => Module(new SoaTiming(fmt, g, tags, depth, p.numbers.arith))
@@ -106,7 +106,7 @@ class SomLane(p: MapmParams) extends Module {
   soa.io.in.bits.qx := op.query.x
   soa.io.in.bits.qy := op.query.y
   soa.io.in.bits.qz := op.query.z
-  soa.io.in.bits.tag := Cat(op.query.q, op.photon)
+  soa.io.in.bits.tag := Cat(op.query.pixel, op.query.q, op.photon)
   io.issued := r.fire
   // A photon record's slots hold format bits zero-extended: anything above them is a malformed image.
   private val malformed = RegInit(false.B)
@@ -117,8 +117,11 @@ class SomLane(p: MapmParams) extends Module {
   io.out.bits.colour := soa.io.out.bits.colour
   io.out.bits.flags := soa.io.out.bits.flags
   io.out.bits.cond := soa.io.out.bits.cond
-  io.out.bits.q := soa.io.out.bits.tag >> p.indices.nodeBits
-  io.out.bits.photon := soa.io.out.bits.tag(p.indices.nodeBits - 1, 0)
+  private val nb = p.indices.nodeBits
+  private val qb = p.indices.queryBits
+  io.out.bits.pixel := soa.io.out.bits.tag >> (nb + qb)
+  io.out.bits.q := soa.io.out.bits.tag(nb + qb - 1, nb)
+  io.out.bits.photon := soa.io.out.bits.tag(nb - 1, 0)
 
   // SOs inside the SOA's pipeline.
   val inSoa = RegInit(0.U(log2Ceil(soa.latency + 2).W))

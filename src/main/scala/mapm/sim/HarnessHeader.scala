@@ -41,7 +41,7 @@ object HarnessHeader {
          |  if (o[$k].valid) {
          |    o[$k].colour[0] = ${b}colour_0; o[$k].colour[1] = ${b}colour_1; o[$k].colour[2] = ${b}colour_2;
          |    o[$k].flags[0] = ${b}flags_0; o[$k].flags[1] = ${b}flags_1; o[$k].flags[2] = ${b}flags_2;
-         |    o[$k].cond = ${b}cond; o[$k].q = ${b}q; o[$k].photon = ${b}photon;
+         |    o[$k].cond = ${b}cond; o[$k].q = ${b}q; o[$k].photon = ${b}photon; o[$k].pixel = ${b}pixel;
          |  }""".stripMargin
     }
     val names = MapmCounters.Names
@@ -53,13 +53,13 @@ object HarnessHeader {
        |typedef V$topName Top;
        |#define MAPM_TOP_NAME "$topName"
        |${defs.map { case (k, v) => s"#define MAPM_$k $v" }.mkString("\n")}
-       |struct OutBeat { bool valid; uint64_t colour[3]; uint32_t flags[3]; bool cond; uint64_t q, photon; };
+       |struct OutBeat { bool valid; uint64_t colour[3]; uint32_t flags[3]; bool cond; uint64_t q, photon, pixel; };
        |static inline void setConfig(Top* t, uint64_t h, uint64_t nodeBase, uint64_t photonBase, uint64_t queryBase, uint64_t nodeCount) {
        |  t->io_cfg_h = h; t->io_cfg_nodeBase = nodeBase; t->io_cfg_photonBase = photonBase;
        |  t->io_cfg_queryBase = queryBase; t->io_cfg_nodeCount = nodeCount;
        |}
-       |static inline void setQuery(Top* t, bool v, uint64_t x, uint64_t y, uint64_t z, uint64_t q) {
-       |  t->io_query_valid = v; t->io_query_bits_x = x; t->io_query_bits_y = y; t->io_query_bits_z = z; t->io_query_bits_q = q;
+       |static inline void setQuery(Top* t, bool v, uint64_t q) {
+       |  t->io_query_valid = v; t->io_query_bits_q = q;
        |}
        |static inline bool queryReady(Top* t) { return t->io_query_ready; }
        |static inline bool memReqValid(Top* t) { return t->io_mem_req_valid; }

@@ -3,17 +3,15 @@ package mapm.tsearch
 import chisel3._
 import chisel3.util._
 import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
-import mapm.params.{MapmParams, QueryData, QueryHwRecord, QueryIn, Records, Rgb}
+import mapm.params.{MapmParams, QueryData, QueryIn, QueryRecord, Records, Rgb}
 import mapm.uncore.Shapes
 import mapm.util.{Index, RoundRobin}
 
-/** The front of the TS block: takes the host's tree-search instructions (query position and
-  * index, 3.2) and reads each query's contribution (r, g, b), the first
-  * [[mapm.format.MemoryLayout.queryHwBytes]] bytes of its query record (16 of 32 with 4-byte
-  * slots), through the SOQ cache, so that the search and every SO it yields carry it
-  * (docs/mapm.md, "Where the query data travels"). A record whose padding (the slots' upper bits,
-  * and the reserved gap after the contribution) is not zero, or, with 2-byte slots, whose position
-  * x (read with the contribution) is not the x the host sent, raises the sticky `error`.
+/** The front of the TS block: takes the tree-search instructions (query indices, 3.2) and reads
+  * each query's record through the SOQ cache, so that the search has its position and every SO
+  * it yields carries its contribution (r, g, b) and pixel (docs/mapm.md, "Where the query data
+  * travels"). A record whose padding (the slots' upper bits, the unused bytes) is not zero, or
+  * whose pixel index does not fit `pixelBits`, raises the sticky `error`.
   *
   * Up to `queryFetches` queries are in flight, each in a slot of its own; a query leaves on `out`
   * once its record has arrived, round-robin among the arrived ones, so a record the memory
@@ -59,24 +57,25 @@ class QueryFetch(p: MapmParams) extends Module {
   when(io.in.fire) {
     valid(tail) := true.B
     arrived(tail) := false.B
-    held(tail).x := io.in.bits.x
-    held(tail).y := io.in.bits.y
-    held(tail).z := io.in.bits.z
     held(tail).q := io.in.bits.q
   }
   soq.io.up.resp.ready := true.B
-  private val rec = soq.io.up.resp.bits.data.asTypeOf(new QueryHwRecord(records.slot, w))
+  private val rec = soq.io.up.resp.bits.data.asTypeOf(new QueryRecord(records.slot, w))
   when(soq.io.up.resp.fire) {
     val i = soq.io.up.resp.bits.id
     arrived(i) := true.B
     for (c <- 0 until Rgb.Channels) held(i).contrib(c) := rec.contrib(c).value
+    held(i).x := rec.pos(0).value
+    held(i).y := rec.pos(1).value
+    held(i).z := rec.pos(2).value
+    held(i).pixel := rec.pixel
   }
-  // The slots' upper bits must be zero; the bytes after the contribution too (a reserved gap), or
-  // with 2-byte slots they are position x's slot, which must be the x the host sent.
-  private val padding = rec.contrib.filter(_ => w < 8 * records.slot).map(_.pad)
-  private val restBad = if (records.queryGapReserved) rec.rest.orR else rec.rest =/= held(soq.io.up.resp.bits.id).x.pad(rec.rest.getWidth)
+  // The slots' upper bits, the unused bytes and the pixel's bits above pixelBits must be zero.
+  private val padding = (rec.contrib ++ rec.pos).filter(_ => w < 8 * records.slot).map(_.pad)
+  private val unused = Seq(rec.gap, rec.tail).filter(_.getWidth > 0) ++
+    (if (p.indices.pixelBits < 32) Seq(rec.pixel(31, p.indices.pixelBits)) else Nil)
   private val malformed = RegInit(false.B)
-  when(soq.io.up.resp.fire && (padding.map(_.orR) :+ restBad).reduce(_ || _)) { malformed := true.B }
+  when(soq.io.up.resp.fire && (padding ++ unused).map(_.orR).reduce(_ || _)) { malformed := true.B }
   // Arrived queries leave round-robin from the slot after the last one out (records come back in
   // any order; a late one does not hold back the others).
   val rrNext = RegInit(0.U(Index.bits(n).W))

@@ -18,7 +18,7 @@ class MemoryImageSpec extends AnyFunSuite {
 
   import SlotLayout.{Packed, Wide}
   /** Record sizes by slot, as docs/memory-layout.md tabulates them: slot -> (node, photon, query, stream). */
-  private val sizes = Map(2 -> (8, 16, 16, 16), 4 -> (8, 32, 32, 16), 8 -> (16, 64, 64, 32))
+  private val sizes = Map(2 -> (8, 16, 16, 4), 4 -> (8, 32, 32, 4), 8 -> (16, 64, 64, 4))
 
   for ((f, layout, slot) <- Seq((FloatFormat.fp32, Packed, 4), (FloatFormat.fp32, Wide, 4), (FloatFormat.fp16, Packed, 2),
                                 (FloatFormat.fp16, Wide, 4), (FloatFormat.bf16, Packed, 2), (FloatFormat(6, 9), Packed, 2),
@@ -55,7 +55,7 @@ class MemoryImageSpec extends AnyFunSuite {
     val bytes = img.toBytes
     val b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
     assert(new String(bytes.take(8), "US-ASCII") == "MAPMIMG1")
-    assert(b.getShort(8) == 2 && b.get(10) == 8 && b.get(11) == 23 && b.get(12) == 0 && b.get(13) == 4)
+    assert(b.getShort(8) == 3 && b.get(10) == 8 && b.get(11) == 23 && b.get(12) == 0 && b.get(13) == 4)
     assert(b.getInt(16) == 7 && b.getInt(20) == 1 && b.getLong(24) == java.lang.Float.floatToIntBits(100f))
     // nodes at 64: Table 3.1's tree. Word = axis | hasLeft 4 | hasRight 8 | leftLeaf 16 | rightLeaf 32 | right << 6
     val words = (0 until 7).map(i => b.getInt(64 + 8 * i + 4))
@@ -72,9 +72,9 @@ class MemoryImageSpec extends AnyFunSuite {
     assert(Seq(0, 4, 8).map(o => java.lang.Float.intBitsToFloat(b.getInt(384 + o))) == Seq(0.5f, 0.25f, 1.0f))
     assert(b.getInt(384 + 28) == 42 && b.getInt(384 + 12) == 0)
     assert(Seq(16, 20, 24).map(o => java.lang.Float.intBitsToFloat(b.getInt(384 + o))) == Seq(0f, 358.739f, 280.736f))
-    // stream at 448: position, then the query index at 12
-    assert(b.getLong(48) == 448 && b.getLong(56) == 464 && bytes.length == 464)
-    assert(java.lang.Float.intBitsToFloat(b.getInt(448 + 4)) == 358.739f && b.getInt(448 + 12) == 0)
+    // stream at 448: the query index, 4 bytes
+    assert(b.getLong(48) == 448 && b.getLong(56) == 452 && bytes.length == 452)
+    assert(b.getInt(448) == 0)
   }
 
   test("fp16 packed bytes at the documented offsets") {
@@ -89,19 +89,19 @@ class MemoryImageSpec extends AnyFunSuite {
       for (c <- 0 until 3) assert((b.getShort(qb + 16 * q + 2 * c) & 0xffff) == queries.contribution(c)(q))
       assert((b.getShort(qb + 16 * q + 6) & 0xffff) == queries.qx(q) && (b.getShort(qb + 16 * q + 10) & 0xffff) == queries.qz(q))
       assert(b.getInt(qb + 16 * q + 12) == queries.pixel(q))
-      assert((b.getShort(sb + 16 * q + 2) & 0xffff) == queries.qy(q) && b.getInt(sb + 16 * q + 12) == q)
+      assert(b.getInt(sb + 4 * q) == q)
     }
   }
 
-  test("fp64 bytes at the documented offsets: 16-byte nodes, 64-byte photons and queries, 32-byte stream entries") {
+  test("fp64 bytes at the documented offsets: 16-byte nodes, 64-byte photons and queries, 4-byte stream entries") {
     val f = FloatFormat.fp64
     val (map, queries) = scene(f, 5, 3, 4)
     val img = mapm.sim.FrameImage.of(map, queries, Packed)
     val b = ByteBuffer.wrap(img.toBytes).order(ByteOrder.LITTLE_ENDIAN)
-    assert(b.getShort(8) == 2 && b.get(10) == 11 && b.get(11) == 52 && b.get(12) == 0 && b.get(13) == 8)
+    assert(b.getShort(8) == 3 && b.get(10) == 11 && b.get(11) == 52 && b.get(12) == 0 && b.get(13) == 8)
     assert(b.getLong(24) == java.lang.Double.doubleToLongBits(3.0) && b.getInt(16) == 5 && b.getInt(20) == 3)
     val pb = img.photonBase.toInt; val qb = img.queryBase.toInt; val sb = img.streamBase.toInt
-    assert(pb == 192 && qb == pb + 5 * 64 && sb == qb + 3 * 64 && img.totalBytes == sb + 3 * 32)
+    assert(pb == 192 && qb == pb + 5 * 64 && sb == qb + 3 * 64 && img.totalBytes == sb + 3 * 4)
     for (i <- 0 until 5) {
       assert(b.getLong(64 + 16 * i) == map.split(i) && b.getInt(64 + 16 * i + 8) == map.tree.nodeWords(i) && b.getInt(64 + 16 * i + 12) == 0)
       for ((field, k) <- Seq(map.px, map.py, map.pz, map.power(0), map.power(1), map.power(2), map.kernel, map.brdf).zipWithIndex)
@@ -112,7 +112,7 @@ class MemoryImageSpec extends AnyFunSuite {
       assert(b.getLong(qb + 64 * q + 24) == 0)
       assert(Seq(32, 40, 48).map(o => b.getLong(qb + 64 * q + o)) == Seq(queries.qx(q), queries.qy(q), queries.qz(q)))
       assert(b.getInt(qb + 64 * q + 56) == queries.pixel(q))
-      assert(Seq(0, 8, 16).map(o => b.getLong(sb + 32 * q + o)) == Seq(queries.qx(q), queries.qy(q), queries.qz(q)) && b.getInt(sb + 32 * q + 28) == q)
+      assert(b.getInt(sb + 4 * q) == q)
     }
   }
 

@@ -50,13 +50,14 @@ class MapmParamsSpec extends AnyFunSuite {
     import mapm.format.SlotLayout.{Packed, Wide}
     // (format, layout) -> (slot, node, photon, SOQ word, SOP L1 line) as docs/memory-layout.md gives them
     for (((f, layout), (slot, node, photon, soqWord, sopLine)) <- Seq(
-           (FloatFormat.fp16, Packed) -> (2, 8, 16, 8, 32), (FloatFormat.fp16, Wide) -> (4, 8, 32, 16, 32),
-           (FloatFormat.bf16, Packed) -> (2, 8, 16, 8, 32), (FloatFormat(6, 9), Packed) -> (2, 8, 16, 8, 32),
-           (FloatFormat.fp32, Packed) -> (4, 8, 32, 16, 32), (FloatFormat.fp24, Wide) -> (4, 8, 32, 16, 32),
-           (FloatFormat(10, 40), Packed) -> (8, 16, 64, 32, 64), (FloatFormat.fp64, Wide) -> (8, 16, 64, 32, 64))) {
+           (FloatFormat.fp16, Packed) -> (2, 8, 16, 16, 32), (FloatFormat.fp16, Wide) -> (4, 8, 32, 32, 32),
+           (FloatFormat.bf16, Packed) -> (2, 8, 16, 16, 32), (FloatFormat(6, 9), Packed) -> (2, 8, 16, 16, 32),
+           (FloatFormat.fp32, Packed) -> (4, 8, 32, 32, 32), (FloatFormat.fp24, Wide) -> (4, 8, 32, 32, 32),
+           (FloatFormat(10, 40), Packed) -> (8, 16, 64, 64, 64), (FloatFormat.fp64, Wide) -> (8, 16, 64, 64, 64))) {
       val p = Configure.of(4, 4, 2, f, 3, layout = layout)
       assert(p.slotBytes == slot && p.records.node.bytes == node && p.records.photon.bytes == photon && p.records.queryHwBytes == soqWord, s"$f $layout")
-      assert(p.caches.sopL1.lineBytes == sopLine && p.caches.tsL1.lineBytes == 64 && p.caches.soq.lineBytes == 32, s"$f $layout")
+      // The SOQ line holds a whole query record: 64 bytes with 8-byte slots.
+      assert(p.caches.sopL1.lineBytes == sopLine && p.caches.tsL1.lineBytes == 64 && p.caches.soq.lineBytes == (soqWord max 32), s"$f $layout")
       assert(p.name.contains("_wide") == (layout == Wide && f.width <= 16), p.name)
     }
   }
@@ -83,7 +84,8 @@ class MapmParamsSpec extends AnyFunSuite {
     assert(msg(CacheParams(3 * 1024, 32, 1)).contains("power of two"))
     assert(msg(CacheParams(1024, 24, 1)).contains("cache line"))
     val fp64 = NumberParams(FloatFormat.fp64)
-    assert(msg(MapmParams(numbers = fp64)).contains("SOP L1 line of 32 bytes is shorter than a 64-byte photon record (8-byte slots)"))
+    assert(msg(MapmParams(numbers = fp64)).contains("SOQ line of 32 bytes is shorter than the 64 bytes of a query record it reads (8-byte slots)"))
+    assert(msg(MapmParams(numbers = fp64, caches = CachesParams(soq = CacheParams(16 * 1024, 64, 1)))).contains("SOP L1 line of 32 bytes is shorter than a 64-byte photon record (8-byte slots)"))
     assert(msg(MapmParams(caches = CachesParams(tsL2 = CacheParams(256 * 1024, 128, 2048)))).contains("TS L2 line of 128 bytes is longer than the memory image's 64-byte array alignment"))
     assert(msg(MapmParams(queues = QueueParams(registerQueueDepth = 25))).contains("Register queue depth 25 must exceed the tree-depth reserve"))
     assert(msg(MapmParams(counts = ModuleCounts(1, 1, 3), queues = QueueParams(rsEntries = 8))).contains("reservation-station entries 8"))

@@ -14,17 +14,17 @@ import org.scalatest.funsuite.AnyFunSuite
 class DecodedRecords(slot: Int, width: Int) extends Bundle {
   val node = new NodeRecord(slot, width)
   val photon = new PhotonRecord(slot, width)
-  val query = new QueryHwRecord(slot, width)
+  val query = new QueryRecord(slot, width)
 }
 
-/** Raw record bits of one slot size: a node record, a photon record and the SOQ part of a query record. */
+/** Raw record bits of one slot size: a node record, a photon record and a query record. */
 class RawRecords(slot: Int) extends Bundle {
   val node = UInt((8 * MemoryLayout.node(slot).bytes).W)
   val photon = UInt((8 * MemoryLayout.photon(slot).bytes).W)
   val query = UInt((8 * MemoryLayout.queryHwBytes(slot)).W)
 }
 
-/** Decodes the raw bits of a node record, a photon record and the SOQ part of a query record with
+/** Decodes the raw bits of a node record, a photon record and a query record with
   * `.asTypeOf`, once per (slot bytes, format width) of `configs`. Combinational. */
 class RecordDecoder(configs: Seq[(Int, Int)]) extends Module {
   val raw = IO(Input(MixedVec(configs.map { case (s, _) => new RawRecords(s) })))
@@ -59,7 +59,7 @@ class RecordsSpec extends AnyFunSuite with Sim {
     for ((s, w) <- configs) {
       assert((new NodeRecord(s, w)).getWidth == 8 * MemoryLayout.node(s).bytes)
       assert((new PhotonRecord(s, w)).getWidth == 8 * MemoryLayout.photon(s).bytes)
-      assert((new QueryHwRecord(s, w)).getWidth == 8 * MemoryLayout.queryHwBytes(s))
+      assert((new QueryRecord(s, w)).getWidth == 8 * MemoryLayout.queryHwBytes(s))
     }
   }
 
@@ -104,14 +104,19 @@ class RecordsSpec extends AnyFunSuite with Sim {
           for ((f, slotField) <- byName) check(slotField, w, pv(f))
 
           for ((ch, k) <- Rgb.Names.zipWithIndex) check(d.query.contrib(k), w, qv("contrib_" + ch))
-          assert(d.query.rest.peek().litValue == bits(query, queryLayout("contrib_b").end, MemoryLayout.queryHwBytes(s)))
+          for ((a, k) <- Seq("x", "y", "z").zipWithIndex) check(d.query.pos(k), w, qv(a))
+          assert(d.query.pixel.peek().litValue == (unsigned(qv("pixel")) & 0xffffffffL))
+          assert(d.query.gap.getWidth == 0 || d.query.gap.peek().litValue == bits(query, queryLayout("contrib_b").end, queryLayout("x").offset))
+          assert(d.query.tail.getWidth == 0 || d.query.tail.peek().litValue == bits(query, queryLayout("pixel").end, queryLayout.bytes))
         }
       }
     }
   }
 
-  test("the query gap after the contribution is reserved except with 2-byte slots, where position x follows") {
-    assert(!new Records(2).queryGapReserved && new Records(4).queryGapReserved && new Records(8).queryGapReserved)
-    assert(MemoryLayout.query(2)("x").offset == 6 && MemoryLayout.queryHwBytes(2) == 8)
+  test("the hardware reads whole query records; the gap after the contribution and the tail are the layout's unused bytes") {
+    for (s <- Seq(2, 4, 8)) assert(MemoryLayout.queryHwBytes(s) == MemoryLayout.query(s).bytes)
+    assert((new QueryRecord(2, 16)).gap.getWidth == 0 && (new QueryRecord(2, 16)).tail.getWidth == 0)
+    assert((new QueryRecord(4, 32)).gap.getWidth == 32 && (new QueryRecord(4, 32)).tail.getWidth == 0)
+    assert((new QueryRecord(8, 64)).gap.getWidth == 64 && (new QueryRecord(8, 64)).tail.getWidth == 32)
   }
 }

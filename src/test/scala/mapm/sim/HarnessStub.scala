@@ -8,6 +8,7 @@ import mapm.params.{MapmConfig, MapmCounters, MapmParams, QueryIn, SoResult}
 /** A stand-in with the whole MAPM's top IO (docs/mapm.md) for testing the Verilator harness on its
   * own: for each query it reads the query's 32-byte record from memory (two 16-byte beats), then
   * reports one SO on port q mod ports: photon q mod 5, colour = the record's contribution bits,
+  * pixel = the record's pixel,
   * flags 0, cond = (q mod 3 != 0). One query at a time. Of the counters it drives `cycles`,
   * `queries`, `tsOps` (= queries), `stallQuery` (cycles waiting for memory) and `soq_misses`
   * (= queries); the others stay 0. With `stray`, query 7's record is read from that byte address
@@ -30,6 +31,7 @@ class HarnessStub(p: MapmParams, stray: Option[Long] = None) extends Module {
   private val q = Reg(UInt(p.indices.queryBits.W))
   private val beat = RegInit(0.U(1.W))
   private val contrib = Reg(Vec(3, UInt(w.W)))
+  private val pixel = Reg(UInt(p.indices.pixelBits.W))
   private val cycles, queries, waits = RegInit(0.U(64.W))
   cycles := cycles + 1.U
 
@@ -45,6 +47,7 @@ class HarnessStub(p: MapmParams, stray: Option[Long] = None) extends Module {
   io.mem.resp.ready := state === sResp
   when(io.mem.resp.fire) {
     when(beat === 0.U) { for (c <- 0 until 3) contrib(c) := io.mem.resp.bits.data(32 * c + w - 1, 32 * c) }
+    when(beat === 1.U) { pixel := io.mem.resp.bits.data(96 + p.indices.pixelBits - 1, 96) } // record byte 28
     beat := beat + 1.U
     when(io.mem.resp.bits.last) { state := sOut }
   }
@@ -55,6 +58,7 @@ class HarnessStub(p: MapmParams, stray: Option[Long] = None) extends Module {
     o.bits.flags := VecInit(Seq.fill(3)(0.U(3.W)))
     o.bits.cond := (q % 3.U) =/= 0.U
     o.bits.q := q
+    o.bits.pixel := pixel
     o.bits.photon := q % 5.U
   }
   when(state === sOut) { state := sIdle }

@@ -75,8 +75,7 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
       c.io.query.valid.poke(offer.B)
       if (offer) {
         val q = img.stream(fed)
-        c.io.query.bits.x.poke(img.position(0)(q).U); c.io.query.bits.y.poke(img.position(1)(q).U)
-        c.io.query.bits.z.poke(img.position(2)(q).U); c.io.query.bits.q.poke(q.U)
+        c.io.query.bits.q.poke(q.U)
       }
       dram.drive()
       var progress = false
