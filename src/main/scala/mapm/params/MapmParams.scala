@@ -225,6 +225,25 @@ final case class ClockingParams(
     soaClockGate: Boolean = true // each SOA's clock runs only while an operation enters or is inside it (docs/mapm.md)
 )
 
+/** The coprocessor around the MAPM (docs/coprocessor.md): its frame accumulator and its AXI4 port. */
+final case class CoprocParams(
+    tileLog2: Int = 13,     // a frame pass covers at most 2^tileLog2 pixels (8192: the 75 x 60 frames in one pass)
+    accBits: Int = 0,       // bits of a pixel channel's fixed-point sum; 0: 64 up to 32-bit formats, 128 above
+    countBits: Int = 24,    // bits of a pixel's contribution count (at most 2^24 - 1 contributions a pixel)
+    banks: Int = 0,         // accumulator banks (a power of two); 0: one per two SOAs, at least 1
+    laneFifo: Int = 0,      // result FIFO entries per SOA lane; 0: the lane's RS entries + its SOA's latency + 8
+    axiIdBits: Int = 8,     // AXI4 id width
+    streamLines: Int = 4    // 64-byte lines of the query stream read ahead
+) {
+  require(tileLog2 >= 4 && tileLog2 <= 24, s"frame tile must be 2^4..2^24 pixels, got 2^$tileLog2")
+  require(accBits == 0 || (accBits >= 32 && accBits <= 128), s"frame sums must be 32..128 bits (or 0: by the format), got $accBits")
+  require(countBits >= 4 && countBits <= 32, s"frame counts must be 4..32 bits, got $countBits")
+  require(banks == 0 || (banks >= 1 && isPow2(banks) && banks <= (1 << tileLog2)), s"frame accumulator banks must be a power of two up to the tile's pixels (or 0: by the SOA count), got $banks")
+  require(laneFifo == 0 || laneFifo >= 4, s"result FIFO must hold at least 4 entries (or 0: by the SOA's latency), got $laneFifo")
+  require(axiIdBits >= 2 && axiIdBits <= 10, s"AXI4 id width must be 2..10 bits, got $axiIdBits")
+  require(streamLines >= 1 && streamLines <= 64, s"query-stream read-ahead must be 1..64 lines, got $streamLines")
+}
+
 /** How the emitted design is meant to be simulated. */
 final case class SimParams(
     fidelity: Fidelity = Fidelity.Full // full RTL, or SOAs replaced by their timing model
@@ -240,7 +259,8 @@ final case class MapmParams(
     indices: IndexParams = IndexParams(),    // index widths
     clocking: ClockingParams = ClockingParams(), // clock gating
     uncore: UncoreParams = UncoreParams(),   // the L2s and the memory system below the L1s
-    sim: SimParams = SimParams()             // full RTL or the SOAs' timing model
+    sim: SimParams = SimParams(),            // full RTL or the SOAs' timing model
+    coproc: CoprocParams = CoprocParams()    // the coprocessor's frame accumulator and AXI4 port
 ) {
   /** Bytes of a format slot in the memory records: the format's in the configured layout. */
   def slotBytes: Int = memory.layout.slotBytes(numbers.format)
@@ -265,6 +285,18 @@ final case class MapmParams(
     s"Register queue depth ${queues.registerQueueDepth} must exceed the tree-depth reserve: at least ${indices.nodeBits + 4} for ${indices.nodeBits}-bit node indices")
   require(queues.rsEntries % counts.soaPerSom == 0 && queues.rsEntries / counts.soaPerSom >= SoGroup.Size,
     s"reservation-station entries ${queues.rsEntries} must split evenly into at least ${SoGroup.Size} per SOA (${counts.soaPerSom} SOAs per SOM)")
+
+  /** The frame accumulation's definition for this configuration (mapm.numerics.FrameAccum). */
+  def frameAccum: mapm.numerics.FrameAccum = {
+    val d = mapm.numerics.FrameAccum.default(numbers.format)
+    d.copy(accBits = if (coproc.accBits == 0) d.accBits else coproc.accBits, countBits = coproc.countBits)
+  }
+  /** Banks of the frame accumulator. */
+  def frameBanks: Int =
+    if (coproc.banks != 0) coproc.banks
+    else math.min(1 << coproc.tileLog2, math.max(1, Integer.highestOneBit(counts.som * counts.soaPerSom / 2)))
+  require(frameAccum.limitBits >= numbers.format.manWidth + 2,
+    s"frame sums of ${frameAccum.accBits} bits with ${coproc.countBits}-bit counts leave too few bits for a ${numbers.format.manWidth + 1}-bit significand")
 
   /** Reservation-station entries of one SOA's lane. */
   def rsPerSoa: Int = queues.rsEntries / counts.soaPerSom

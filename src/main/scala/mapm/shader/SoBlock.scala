@@ -39,6 +39,8 @@ class SoBlock(p: MapmParams) extends Module {
     val in = Input(Vec(s, Valid(new SoGroup(p))))
     val free = Output(Vec(s, Vec(a, UInt(log2Ceil(p.rsPerSoa + 1).W))))
     val out = Vec(s * a, Valid(new SoResult(p)))
+    /** Results the consumer of each port of `out` can still take ([[SomLane]]). */
+    val room = Input(Vec(s * a, UInt(log2Ceil(SomLane.resultFifo(p) + 1).W)))
     val l1 = Vec(s * a, new MemPort(shapes.sopL1.down))
     val idle = Output(Bool())
     val error = Output(Bool())
@@ -55,6 +57,7 @@ class SoBlock(p: MapmParams) extends Module {
     for (k <- 0 until a) {
       io.l1(j * a + k) <> m.io.mem(k)
       io.out(j * a + k) := m.io.out(k)
+      m.io.room(k) := io.room(j * a + k)
     }
   }
   io.idle := soms.map(_.io.idle).reduce(_ && _)

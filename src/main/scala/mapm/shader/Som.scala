@@ -29,6 +29,8 @@ class Som(p: MapmParams) extends Module {
     val photonBase = Input(UInt(p.memory.addressBits.W))
     val in = Input(Valid(new SoGroup(p)))
     val free = Output(Vec(a, UInt(log2Ceil(p.rsPerSoa + 1).W)))
+    /** Results each lane's consumer can still take ([[SomLane]]). */
+    val room = Input(Vec(a, UInt(log2Ceil(SomLane.resultFifo(p) + 1).W)))
     val mem = Vec(a, new MemPort(Shapes(p).sopL1.down))
     val out = Vec(a, Valid(new SoResult(p)))
     val issued = Output(Vec(a, Bool()))
@@ -47,6 +49,7 @@ class Som(p: MapmParams) extends Module {
       l.io.insert(k).bits.photon := ph.bits
     }
     io.free(b) := l.io.free
+    l.io.room := io.room(b)
     io.mem(b) <> l.io.mem
     io.out(b) := l.io.out
     io.issued(b) := l.io.issued

@@ -44,6 +44,9 @@ class SomLane(p: MapmParams) extends Module {
     val photonBase = Input(UInt(p.memory.addressBits.W))
     val insert = Input(Vec(SoGroup.Size, Valid(new SoOp(p))))
     val free = Output(UInt(log2Ceil(n + 1).W))
+    /** Results the consumer of `out` can still take (at most [[SomLane.resultFifo]]): the lane
+      * takes new SOs only while those in its reservation station and its SOA fit in it. */
+    val room = Input(UInt(log2Ceil(SomLane.resultFifo(p) + 1).W))
     val mem = new MemPort(l1Config.down)
     val out = Valid(new SoResult(p))
     /** An SO entered the SOA this cycle. */
@@ -67,7 +70,7 @@ class SomLane(p: MapmParams) extends Module {
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))
   val sent = RegInit(VecInit(Seq.fill(n)(false.B)))
   val ops = Reg(Vec(n, new SoOp(p)))
-  io.free := PopCount(valid.map(!_))
+  private val rsFree = PopCount(valid.map(!_))
 
   // Insertion into the lowest free entries, in group order.
   private var avail = ~valid.asUInt
@@ -126,6 +129,10 @@ class SomLane(p: MapmParams) extends Module {
   // SOs inside the SOA's pipeline.
   val inSoa = RegInit(0.U(log2Ceil(soa.latency + 2).W))
   inSoa := inSoa + soa.io.in.valid.asUInt - soa.io.out.valid.asUInt
+  // Room for new SOs: the consumer's room less the SOs that will still leave on `out`.
+  private val pending = (n.U - rsFree) +& inSoa
+  private val spare = Mux(io.room > pending, io.room - pending, 0.U)
+  io.free := Mux(spare < rsFree, spare, rsFree)
   io.idle := !valid.asUInt.orR && inSoa === 0.U
   // The SOA is a pipeline without feedback: each stage's registers hold the operation that entered
   // so many cycles earlier, and nothing else. While no operation is inside it or entering it, its
@@ -133,3 +140,13 @@ class SomLane(p: MapmParams) extends Module {
   // its valid bits clear.
   if (p.clocking.soaClockGate) soa.clock := ClockGate(clock, reset.asBool || soa.io.in.valid || inSoa =/= 0.U)
 }
+
+object SomLane {
+  /** Results a lane may have on their way at once: its reservation-station entries and its SOA's
+    * latency, plus 8 (`CoprocParams.laneFifo`, or this where it is 0). A consumer with this much
+    * room never slows the lane. */
+  def resultFifo(p: MapmParams): Int =
+    if (p.coproc.laneFifo != 0) p.coproc.laneFifo
+    else p.rsPerSoa + SOA.latency(p.numbers.format, p.numbers.guardDigits, FpuDepth.of(p.numbers.format, p.numbers.fpuStageWeight), p.numbers.arith) + 8
+}
+

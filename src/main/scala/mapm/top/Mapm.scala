@@ -37,6 +37,9 @@ class Mapm(val p: MapmParams) extends Module {
     val query = Flipped(Decoupled(new QueryIn(p)))
     val mem = new MemPort(memParams)
     val out = Output(Vec(p.counts.som * p.counts.soaPerSom, Valid(new SoResult(p))))
+    /** Results the consumer of each `out` port can still take: a lane takes new SOs only while all
+      * it has fit (a consumer that always takes ties it to [[Mapm.resultRoom]]). */
+    val room = Input(Vec(p.counts.som * p.counts.soaPerSom, UInt(log2Ceil(Mapm.resultRoom(p) + 1).W)))
     val done = Output(Bool())
     val error = Output(Bool())
     val counters = Output(new MapmCounters)
@@ -49,6 +52,7 @@ class Mapm(val p: MapmParams) extends Module {
   so.io.cfg := io.cfg
   ts.io.query <> io.query
   io.out := so.io.out
+  so.io.room := io.room
 
   uncore.io.tsL1 <> ts.io.l1
   uncore.io.soq <> ts.io.soq
@@ -90,4 +94,10 @@ class Mapm(val p: MapmParams) extends Module {
   c.sopL2_conflicts := uc.sopL2.conflicts
   c.bytesFetched := uc.bytesFetched
   c.rqPeak := tc.rqPeak
+}
+
+object Mapm {
+  /** The room that never slows a lane: what one lane may have on its way
+    * ([[mapm.shader.SomLane.resultFifo]]). */
+  def resultRoom(p: MapmParams): Int = mapm.shader.SomLane.resultFifo(p)
 }

@@ -22,6 +22,7 @@ class HarnessStub(p: MapmParams, stray: Option[Long] = None) extends Module {
     val query = Flipped(Decoupled(new QueryIn(p)))
     val mem = new MemPort(MemPortParams(p.memory.addressBits, p.memory.dataBytes, 3, 4))
     val out = Output(Vec(ports, Valid(new SoResult(p))))
+    val room = Input(Vec(ports, UInt(log2Ceil(mapm.top.Mapm.resultRoom(p) + 1).W))) // unused: the stub never waits
     val done = Output(Bool())
     val error = Output(Bool())
     val counters = Output(new MapmCounters)

@@ -8,6 +8,7 @@ import chisel3._
 import chiseltest._
 import mapm.Slow
 import mapm.params._
+import mapm.top.Mapm
 import mapm.format.{ExpectedSoFile, MemoryImage}
 import mapm.memory.{DramModel, DramTiming, MemImage}
 import mapm.model.{Frame, SceneConfig, TestScenes}
@@ -63,6 +64,7 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
     c.io.cfg.nodeCount.poke(img.nodeCount.U)
     c.io.query.valid.poke(false.B)
     c.io.mem.resp.valid.poke(false.B)
+    c.io.room.foreach(_.poke(Mapm.resultRoom(c.p).U))
     c.reset.poke(true.B); c.clock.step(2); c.reset.poke(false.B)
     val dram = new DramModel(c.io.mem, new MemImage(k.bytes), timing, rnd)
     val seen = mutable.Map[(Int, Int), (Seq[Long], Seq[Int], Boolean)]()
