@@ -1,0 +1,162 @@
+package mapm.soc
+
+import chisel3._
+import chisel3.util._
+import mapm.numerics.FrameAccum
+import mapm.params.{MapmParams, Rgb, SoResult}
+import mapm.shader.SomLane
+import mapm.util.{Index, RoundRobin}
+
+/** A pixel's entry in the frame accumulator ([[FrameAccum]]): a fixed-point sum per channel, the
+  * contributions counted, and whether one was refused (the pixel then reads NaN). */
+class PixelSums(fa: FrameAccum) extends Bundle {
+  val bad = Bool()
+  val count = UInt(fa.countBits.W)
+  val sum = Vec(Rgb.Channels, SInt(fa.accBits.W))
+}
+
+/** A passing SO's colour on its way to its pixel's bank: the pixel's offset in the tile. */
+class Contribution(p: MapmParams) extends Bundle {
+  val offset = UInt(p.coproc.tileLog2.W)
+  val colour = Vec(Rgb.Channels, UInt(p.numbers.format.width.W))
+}
+
+/** The frame accumulator (docs/coprocessor.md, "Accumulation"): adds the colour of every SO whose
+  * cond holds into its pixel as [[FrameAccum]] defines it, so the sums are the same whatever order
+  * the SOs come in, and hands the pixels to the frame writer at the end of the pass.
+  *
+  * Each result port feeds a FIFO of [[SomLane.resultFifo]] entries (an SRAM); `room` tells the port's
+  * SOM lane how many entries are free, and the lane takes new SOs only while everything it has
+  * fits, so no result is ever dropped (`overflow` would say so). The pixels of the tile (up to
+  * 2^tileLog2) are spread over `frameBanks` banks by the low bits of their offset from
+  * `pixelBase`; each bank takes one contribution a cycle from the FIFO heads that want it (round
+  * robin), converts its channels ([[FrameConvert]]), reads the pixel's entry and writes the sum back
+  * the next cycle, forwarding it to a read of the same pixel in between. A result whose pixel lies
+  * outside `pixelBase .. pixelBase + pixelCount - 1` is refused (fault `pixel`).
+  *
+  * `clear` zeroes every pixel (one row of every bank a cycle; `ready` is low and `room` zero
+  * meanwhile). `read` reads a pixel's entry for the writer (`readOut` the next cycle); it is for
+  * when the accumulator is `idle`.
+  *
+  * Latency: 3 cycles from a result to its pixel's entry when its FIFO and bank are free.
+  * Throughput: one contribution a cycle per bank.
+  */
+class FrameAccumulator(p: MapmParams) extends Module {
+  private val fa = p.frameAccum
+  private val lanes = p.counts.som * p.counts.soaPerSom
+  private val banks = p.frameBanks
+  private val tileLog2 = p.coproc.tileLog2
+  private val bankBits = log2Ceil(banks)
+  private val rows = (1 << tileLog2) / banks
+  private val depth = SomLane.resultFifo(p)
+  override def desiredName = s"FrameAccumulator_l${lanes}_b${banks}_t$tileLog2"
+
+  val io = IO(new Bundle {
+    val results = Input(Vec(lanes, Valid(new SoResult(p))))
+    val room = Output(Vec(lanes, UInt(log2Ceil(depth + 1).W)))
+    val scale = Input(SInt(FrameArith.ScaleBits.W))
+    val pixelBase = Input(UInt(32.W))
+    val pixelCount = Input(UInt((tileLog2 + 1).W))
+    val clear = Input(Bool())
+    val ready = Output(Bool())
+    val idle = Output(Bool())
+    /** Sticky since `clear`: a colour not finite, beyond the scale's range, a count full, a pixel outside the pass. */
+    val faults = Output(new FrameFaults)
+    val overflow = Output(Bool())
+    val read = Flipped(Valid(UInt(tileLog2.W)))
+    val readOut = Valid(new PixelSums(fa))
+  })
+
+  // Clearing: one row of every bank per cycle.
+  private val clearing = RegInit(false.B)
+  private val clearRow = RegInit(0.U(log2Ceil(rows + 1).W))
+  when(io.clear) { clearing := true.B; clearRow := 0.U }
+  .elsewhen(clearing) { clearRow := clearRow + 1.U; when(clearRow === (rows - 1).U) { clearing := false.B } }
+  io.ready := !clearing
+
+  private val faults = RegInit(0.U.asTypeOf(new FrameFaults))
+  private val overflow = RegInit(false.B)
+  when(io.clear) { faults := 0.U.asTypeOf(new FrameFaults); overflow := false.B }
+
+  // One FIFO per result port: the passing results whose pixel is in the pass.
+  private val fifos = Seq.fill(lanes)(Module(new Queue(new Contribution(p), depth, useSyncReadMem = true)))
+  private val pixelOut = WireInit(false.B)
+  for ((f, l) <- fifos.zipWithIndex) {
+    val r = io.results(l)
+    val offset = r.bits.pixel -& io.pixelBase
+    val inPass = r.bits.pixel >= io.pixelBase && offset < io.pixelCount
+    f.io.enq.valid := r.valid && r.bits.cond && inPass
+    f.io.enq.bits.offset := offset(tileLog2 - 1, 0)
+    f.io.enq.bits.colour := r.bits.colour
+    when(r.valid && r.bits.cond && !inPass) { pixelOut := true.B }
+    when(f.io.enq.valid && !f.io.enq.ready) { overflow := true.B }
+    io.room(l) := Mux(clearing, 0.U, depth.U - f.io.count)
+  }
+  when(pixelOut) { faults.pixel := true.B }
+
+  private def bankOf(c: Contribution): UInt = if (banks == 1) 0.U else c.offset(bankBits - 1, 0)
+  private def rowOf(offset: UInt): UInt = if (banks == (1 << tileLog2)) 0.U else offset >> bankBits
+
+  private val bankIdle = Wire(Vec(banks, Bool()))
+  private val readBank = RegNext(if (banks == 1) 0.U else io.read.bits(bankBits - 1, 0))
+  private val readValid = RegNext(io.read.valid, false.B)
+  private val readData = Wire(Vec(banks, new PixelSums(fa)))
+  private val wants = Seq.tabulate(banks)(b => VecInit(fifos.map(f => f.io.deq.valid && bankOf(f.io.deq.bits) === b.U)).asUInt)
+  private val granted = Wire(Vec(banks, UInt(lanes.W)))
+
+  for (b <- 0 until banks) {
+    val mem = SyncReadMem(rows, new PixelSums(fa))
+    // Stage 1: the granted head, converted; its row read.
+    val rr = RegInit(0.U(Index.bits(lanes).W))
+    val (anyWant, pick) = RoundRobin.first(wants(b), rr)
+    val any = anyWant && !clearing
+    granted(b) := Mux(any, UIntToOH(pick, lanes), 0.U)
+    when(any) { rr := Index.next(pick, lanes) }
+    val v1 = RegNext(any, false.B)
+    val c1 = RegEnable(VecInit(fifos.map(_.io.deq.bits))(pick), any)
+    val conv = Seq.fill(Rgb.Channels)(Module(new FrameConvert(fa)))
+    for ((cv, ch) <- conv.zipWithIndex) { cv.io.in := c1.colour(ch); cv.io.scale := io.scale }
+    val row1 = rowOf(c1.offset)
+    val readRow = Mux(io.read.valid, rowOf(io.read.bits), row1)
+    val rdata = mem.read(readRow, true.B)
+    readData(b) := rdata
+    // Stage 2: add and write back; the sum just written is forwarded to a read of the same row.
+    val v2 = RegNext(v1, false.B)
+    val row2 = RegNext(row1)
+    val add2 = RegNext(VecInit(conv.map(_.io.out)))
+    val nonFinite2 = RegNext(conv.map(_.io.nonFinite).reduce(_ || _))
+    val range2 = RegNext(conv.map(_.io.range).reduce(_ || _))
+    val last = RegInit(0.U.asTypeOf(Valid(new Bundle { val row = UInt(log2Ceil(rows).max(1).W); val data = new PixelSums(fa) })))
+    val old = Mux(last.valid && last.bits.row === row2, last.bits.data, rdata)
+    val full = old.count === fa.maxCount.U
+    val refused = nonFinite2 || range2 || full
+    val upd = Wire(new PixelSums(fa))
+    upd.bad := old.bad || refused
+    upd.count := Mux(refused, old.count, old.count + 1.U)
+    for (ch <- 0 until Rgb.Channels) upd.sum(ch) := Mux(refused, old.sum(ch), old.sum(ch) + add2(ch))
+    when(clearing) { mem.write(clearRow, 0.U.asTypeOf(new PixelSums(fa))) }
+    .elsewhen(v2) { mem.write(row2, upd) }
+    last.valid := v2 && !clearing
+    last.bits.row := row2
+    last.bits.data := upd
+    when(v2 && nonFinite2) { faults.nonFinite := true.B }
+    when(v2 && range2) { faults.range := true.B }
+    when(v2 && full && !nonFinite2 && !range2) { faults.count := true.B }
+    bankIdle(b) := !v1 && !v2
+  }
+  for ((f, l) <- fifos.zipWithIndex) f.io.deq.ready := granted.map(_(l)).reduce(_ || _)
+
+  io.faults := faults
+  io.overflow := overflow
+  io.idle := fifos.map(f => !f.io.deq.valid).reduce(_ && _) && bankIdle.asUInt.andR && !clearing
+  io.readOut.valid := readValid
+  io.readOut.bits := readData(readBank)
+}
+
+/** The accumulation's faults, one bit each (the ERROR_CAUSE bits of the same names). */
+class FrameFaults extends Bundle {
+  val pixel = Bool()
+  val count = Bool()
+  val range = Bool()
+  val nonFinite = Bool()
+}
