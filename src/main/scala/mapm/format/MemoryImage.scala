@@ -44,7 +44,8 @@ final class MemoryImage(
   val photonBase: Long = align(nodeBase + nodeBytes.toLong * nodeCount)
   val queryBase: Long = align(photonBase + photonBytes.toLong * nodeCount)
   val streamBase: Long = align(queryBase + queryBytes.toLong * queryCount)
-  val totalBytes: Long = streamBase + records.streamR.bytes.toLong * stream.length
+  /** The stream array is padded to the alignment too, so that it is read in whole 64-byte lines. */
+  val totalBytes: Long = align(streamBase + records.streamR.bytes.toLong * stream.length)
 
   /** The image as bytes. */
   def toBytes: Array[Byte] = {
