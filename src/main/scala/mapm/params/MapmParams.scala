@@ -232,7 +232,7 @@ final case class CoprocParams(
     countBits: Int = 24,    // bits of a pixel's contribution count (at most 2^24 - 1 contributions a pixel)
     banks: Int = 0,         // accumulator banks (a power of two); 0: one per two SOAs, at least 1
     laneFifo: Int = 0,      // result FIFO entries per SOA lane; 0: the lane's RS entries + its SOA's latency + 8
-    axiIdBits: Int = 8,     // AXI4 id width
+    axiIdBits: Int = 0,     // AXI4 id width; 0: as many as the reads need (the MAPM's memory port's, plus one)
     streamLines: Int = 4    // 64-byte lines of the query stream read ahead
 ) {
   require(tileLog2 >= 4 && tileLog2 <= 24, s"frame tile must be 2^4..2^24 pixels, got 2^$tileLog2")
@@ -240,7 +240,7 @@ final case class CoprocParams(
   require(countBits >= 4 && countBits <= 32, s"frame counts must be 4..32 bits, got $countBits")
   require(banks == 0 || (banks >= 1 && isPow2(banks) && banks <= (1 << tileLog2)), s"frame accumulator banks must be a power of two up to the tile's pixels (or 0: by the SOA count), got $banks")
   require(laneFifo == 0 || laneFifo >= 4, s"result FIFO must hold at least 4 entries (or 0: by the SOA's latency), got $laneFifo")
-  require(axiIdBits >= 2 && axiIdBits <= 10, s"AXI4 id width must be 2..10 bits, got $axiIdBits")
+  require(axiIdBits == 0 || (axiIdBits >= 2 && axiIdBits <= 10), s"AXI4 id width must be 2..10 bits (or 0: as the reads need), got $axiIdBits")
   require(streamLines >= 1 && streamLines <= 64, s"query-stream read-ahead must be 1..64 lines, got $streamLines")
 }
 

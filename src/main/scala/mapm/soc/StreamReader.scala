@@ -26,7 +26,7 @@ class StreamReader(p: MapmParams) extends Module {
   private val perBeat = db / 4
   private val perLine = lineBytes / 4
   require(db >= 4 && lineBytes % db == 0, s"$db-byte beats")
-  val memParams: MemPortParams = MemPortParams(p.memory.addressBits, db, Index.bits(lines), beatsPerLine)
+  val memParams: MemPortParams = StreamReader.memParams(p)
   override def desiredName = s"StreamReader_l${lines}_d$db"
 
   val io = IO(new Bundle {
@@ -102,3 +102,10 @@ class StreamReader(p: MapmParams) extends Module {
   io.done := !running && taken === count
   io.badQuery := bad
 }
+
+object StreamReader {
+  /** The reader's memory port: whole 64-byte lines, one id per line buffer. */
+  def memParams(p: MapmParams): MemPortParams =
+    MemPortParams(p.memory.addressBits, p.memory.dataBytes, Index.bits(p.coproc.streamLines), MemoryLayout.Alignment / p.memory.dataBytes)
+}
+
