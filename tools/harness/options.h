@@ -17,6 +17,8 @@ struct Options {
   double bandwidth = 14.0, clockGhz = 1.5, queryGap = 0, reqStall = 0, respGap = 0, tailProb = 0;
   uint64_t tailLatency = 0, faultAt = 0;
   uint64_t measureFrom = UINT64_MAX;  // --measure-from: callgrind counts from this cycle to the end of the run
+  int64_t frameScale = -40;           // --frame-scale: FRAME_SCALE of the coprocessor's pass (docs/coprocessor.md)
+  bool poll = false;                  // --poll: the coprocessor's driver polls STATUS instead of waiting for the interrupt
   Fault fault = Fault::None;
 };
 
@@ -25,14 +27,15 @@ struct Options {
           "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--latency-max N] [--bandwidth B]\n"
           "  [--query-gap P] [--req-stall P] [--resp-gap P] [--tail-prob P --tail-latency N] [--max-cycles N] [--idle-cycles N]\n"
           "  [--seed N] [--clock-ghz F] [--fault node-axis|node-child|query-index|unknown-id|duplicate-response [--fault-at N]]\n"
-          "  [--wave FILE.fst --wave-start N --wave-end N] [--results FILE] [--measure-from N]\n",
+          "  [--wave FILE.fst --wave-start N --wave-end N] [--results FILE] [--measure-from N] [--frame-scale S] [--poll]\n",
           msg.c_str());
   exit(2);
 }
 
 inline Options parseOptions(int argc, char** argv) {
   enum { IMAGE = 1, EXPECTED, OUT, LATENCY, LATENCY_MAX, BANDWIDTH, QUERY_GAP, REQ_STALL, RESP_GAP, MAX_CYCLES, IDLE_CYCLES,
-         SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END, TAIL_PROB, TAIL_LATENCY, FAULT, FAULT_AT, RESULTS, MEASURE_FROM };
+         SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END, TAIL_PROB, TAIL_LATENCY, FAULT, FAULT_AT, RESULTS, MEASURE_FROM,
+         FRAME_SCALE, POLL };
   static const option longOptions[] = {
       {"image", required_argument, nullptr, IMAGE},           {"expected", required_argument, nullptr, EXPECTED},
       {"out", required_argument, nullptr, OUT},               {"latency", required_argument, nullptr, LATENCY},
@@ -45,6 +48,7 @@ inline Options parseOptions(int argc, char** argv) {
       {"tail-prob", required_argument, nullptr, TAIL_PROB},   {"tail-latency", required_argument, nullptr, TAIL_LATENCY},
       {"fault", required_argument, nullptr, FAULT},           {"fault-at", required_argument, nullptr, FAULT_AT},
       {"results", required_argument, nullptr, RESULTS},       {"measure-from", required_argument, nullptr, MEASURE_FROM},
+      {"frame-scale", required_argument, nullptr, FRAME_SCALE}, {"poll", no_argument, nullptr, POLL},
       {nullptr, 0, nullptr, 0}};
   Options o;
   opterr = 0;  // the errors below say what went wrong
@@ -53,7 +57,7 @@ inline Options parseOptions(int argc, char** argv) {
     const std::string a = argv[optind - 1];
     if (c == ':') usage("option " + a + " needs a value");
     if (c == '?') usage("unknown option " + a);
-    const std::string name = std::string("--") + longOptions[index].name, v = optarg;
+    const std::string name = std::string("--") + longOptions[index].name, v = optarg ? optarg : "";
     char* end = nullptr;
     auto u = [&]() { uint64_t r = strtoull(v.c_str(), &end, 10); if (*end || v.empty()) usage(name + ": not a number: " + v); return r; };
     auto d = [&]() { double r = strtod(v.c_str(), &end); if (*end || v.empty() || !(r > 0)) usage(name + ": not a positive number: " + v); return r; };
@@ -81,6 +85,8 @@ inline Options parseOptions(int argc, char** argv) {
       case FAULT_AT: o.faultAt = u(); break;
       case RESULTS: o.results = v; break;
       case MEASURE_FROM: o.measureFrom = u(); break;
+      case FRAME_SCALE: { long long r = strtoll(v.c_str(), &end, 10); if (*end || v.empty() || r < -32768 || r > 32767) usage(name + ": not a scale in -32768..32767: " + v); o.frameScale = r; break; }
+      case POLL: o.poll = true; break;
     }
   }
   for (int i = optind; i < argc; i++)  // getopt_long moves the arguments that are not options here

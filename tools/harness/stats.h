@@ -21,7 +21,7 @@ struct RunSummary {
 
 // Writes the stats of a run to `path`; false when the file cannot be written.
 inline bool writeStats(const std::string& path, const Options& opt, const RunSummary& r, const Dram& dram,
-                       const uint64_t* counters) {
+                       const uint64_t* counters, uint64_t passCycles = 0, uint64_t bytesWritten = 0) {
   auto counter = [&](const std::string& n, uint64_t* v) {
     for (int i = 0; i < COUNTER_COUNT; i++) if (n == COUNTER_NAMES[i]) { *v = counters[i]; return true; }
     return false;
@@ -33,6 +33,17 @@ inline bool writeStats(const std::string& path, const Options& opt, const RunSum
   // timing: the SOAs were their timing model; colours and cond (soPassingCond) came from the model.
   j.str("fidelity", MAPM_FIDELITY_TIMING ? "timing" : "full");
   j.str("colourSource", MAPM_FIDELITY_TIMING ? "model" : "rtl");
+#ifdef MAPM_COPROC
+  // The coprocessor writes the frame itself; its timing model computes no colour.
+  j.str("frameSource", MAPM_FIDELITY_TIMING ? "model (timing fidelity)" : "hardware frame buffer");
+  j.integer("passCycles", passCycles);
+  j.integer("bytesWritten", bytesWritten);
+  j.num("frameScale", (double)opt.frameScale);
+  j.str("wait", opt.poll ? "polling" : "interrupt");
+#else
+  j.str("frameSource", "harness accumulation");
+  (void)passCycles; (void)bytesWritten;
+#endif
   j.begin("config");
   j.integer("tsm", MAPM_TSM);
   j.integer("som", MAPM_SOM);

@@ -24,8 +24,9 @@ final case class HwOptions(
     @arg(doc = "memory hierarchy: scalable (the SOP L2 in banks, one per two SOP L1 banks, a 4-way SOQ and TS L1s of 64-byte lines; docs/uncore.md) or table4.2 (the dissertation's: shared L2s, a direct-mapped SOQ, and the host's query order unless --query-order says otherwise)") hierarchy: Hierarchy = Hierarchy.Scalable,
     @arg(name = "sop-l2-banks", doc = "SOP L2 banks: 1 is one shared cache with one port (Table 4.2's); 2, 4 ... 64 split it by line address, each bank with its own port, behind a registered network") sopL2Banks: Option[Int] = None,
     @arg(name = "ts-l2-banks", doc = "TS L2 banks, as --sop-l2-banks") tsL2Banks: Option[Int] = None,
-    @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag()) {
+    @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag(),
+    @arg(doc = "run the MAPM as its coprocessor (docs/coprocessor.md): it reads its query stream, adds every colour into its pixel and writes the frame buffer, driven by the C driver over AXI4-Lite") coproc: mainargs.Flag = mainargs.Flag()) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
-    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value, sopL2Banks, tsL2Banks, hierarchy)
+    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value, sopL2Banks, tsL2Banks, hierarchy, coproc.value)
 }

@@ -67,8 +67,10 @@ final case class CacheConfig(
   def tagBits: Int = addressBits - lineOffsetBits - setBits
   def wordsPerLine: Int = lineBytes / wordBytes
   def beatsPerLine: Int = lineBytes / downBytes
-  /** Widths of a word index within a line and of a beat index (at least one bit). */
-  def wordIdxBits: Int = log2Ceil(wordsPerLine) max 1
+  /** Width of a word index within a line: none when a word is the whole line (an L2 under L1s of
+    * its line size), so that no unused index port is left to lint. */
+  def wordIdxBits: Int = log2Ceil(wordsPerLine)
+  /** Width of a beat index (at least one bit). */
   def beatIdxBits: Int = log2Ceil(beatsPerLine) max 1
   /** Bits of the pseudo-LRU tree per set (none when direct mapped). */
   def plruBits: Int = ways - 1

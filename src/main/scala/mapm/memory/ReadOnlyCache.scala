@@ -91,7 +91,7 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   private def tagOf(wa: UInt): UInt =
     if (bk == 0 || cfg.hashed) wa(cfg.addressBits - wordOff - 1, lineWordBits + cfg.setBits)
     else Cat(wa(cfg.addressBits - wordOff - 1, lineWordBits + bk + cfg.setBits), wa(lineWordBits + bk - 1, lineWordBits))
-  private def wordOf(wa: UInt): UInt = if (lineWordBits == 0) 0.U(1.W) else wa(lineWordBits - 1, 0)
+  private def wordOf(wa: UInt): UInt = if (lineWordBits == 0) 0.U(0.W) else wa(lineWordBits - 1, 0)
   private def rowOf(set: UInt, way: UInt): UInt =
     if (cfg.sets == 1) way else if (cfg.ways == 1) set else Cat(set, way)
 

@@ -246,7 +246,8 @@ final case class CoprocParams(
 
 /** How the emitted design is meant to be simulated. */
 final case class SimParams(
-    fidelity: Fidelity = Fidelity.Full // full RTL, or SOAs replaced by their timing model
+    fidelity: Fidelity = Fidelity.Full, // full RTL, or SOAs replaced by their timing model
+    coproc: Boolean = false             // simulate the coprocessor around the MAPM (docs/coprocessor.md), not the bare MAPM
 )
 
 /** Everything that sizes one MAPM instance. Every field has a default; presets below. */

@@ -71,7 +71,8 @@ final case class Tuning(
     soaClockGate: Boolean = true,           // gate each SOA's clock while it holds no operation
     sopL2Banks: Option[Int] = None,         // SOP L2 banks (1: one shared cache, Table 4.2's)
     tsL2Banks: Option[Int] = None,          // TS L2 banks (1: one shared cache, Table 4.2's)
-    hierarchy: Hierarchy = Hierarchy.Scalable // the memory hierarchy the sizes start from
+    hierarchy: Hierarchy = Hierarchy.Scalable, // the memory hierarchy the sizes start from
+    coproc: Boolean = false                 // run the coprocessor (docs/coprocessor.md) rather than the bare MAPM
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
@@ -80,7 +81,7 @@ final case class Tuning(
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
       memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate")) ++
       sopL2Banks.map(b => s"sop-l2-banks=$b") ++ tsL2Banks.map(b => s"ts-l2-banks=$b") ++
-      (if (hierarchy == Hierarchy.Scalable) None else Some(s"hierarchy=$hierarchy"))
+      (if (hierarchy == Hierarchy.Scalable) None else Some(s"hierarchy=$hierarchy")) ++ (if (coproc) Some("coproc") else None)
   }
 
   /** The hierarchy and the sizes given, in a phrase for a log or a report. */
@@ -126,7 +127,7 @@ object Configure {
       base.copy(
         numbers = NumberParams(format, g, arith = arith),
         memory = base.memory.copy(layout = layout, maxOutstanding = t.memOutstanding.getOrElse(base.memory.maxOutstanding)),
-        sim = SimParams(fidelity),
+        sim = SimParams(fidelity, t.coproc),
         clocking = ClockingParams(t.soaClockGate),
         uncore = {
           // The hierarchy's L2 structures for the SOP L2 as given, each bank count given in their place.

@@ -28,6 +28,8 @@ object Harness {
   }
 
   def sourceDir: Path = root.resolve("tools/harness")
+  /** The coprocessor's C driver (its harness includes it). */
+  def driverDir: Path = root.resolve("tools/driver")
 
   private def sources: Seq[Path] =
     Files.list(sourceDir).iterator.asScala.filter(p => p.toString.endsWith(".cpp") || p.toString.endsWith(".h")).toSeq.sortBy(_.toString)
@@ -56,10 +58,13 @@ object Harness {
     val configHeader = new String(Files.readAllBytes(configFile), UTF_8)
     MapmError.check(configHeader.contains(s"#define MAPM_TOP_NAME \"$top\""), s"$configFile is not the header of $top")
     val formats = CHeader.formats
+    val coproc = configHeader.contains("#define MAPM_COPROC 1")
+    val regs = mapm.format.RegisterMap.cHeader
+    val driver = Seq("mapm_driver.h", "mapm_driver.c").map(driverDir.resolve)
     val vlt = noInlineConfig(svTexts.mkString("\n"))
     val designFlags = if (configHeader.contains("#define MAPM_FIDELITY_TIMING 1")) timingFlags else Seq.empty
     val inputs = svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
-      sources.map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+ vlt :+
+      (sources ++ driver).map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+ regs :+ vlt :+
       s"trace=$trace threads=$threads" :+ (Verilator.optFlags ++ designFlags).mkString(" ")
     val name = s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}"
     val t0 = System.nanoTime()
@@ -73,13 +78,15 @@ object Harness {
       // sees is the same for every configuration and ccache shares the run-time library's objects.
       Files.write(tmp.resolve("mapm_formats.h"), formats.getBytes(UTF_8))
       Files.write(tmp.resolve("mapm_config.h"), configHeader.getBytes(UTF_8))
+      Files.write(tmp.resolve("mapm_regs.h"), regs.getBytes(UTF_8))
       val fileList = tmp.resolve("files.f")
       val config = tmp.resolve("no-inline.vlt")
       Files.write(config, vlt.getBytes(UTF_8))
       Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
-      val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${tmp.toAbsolutePath} -std=c++17") ++
+      val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${driverDir.toAbsolutePath} -I${tmp.toAbsolutePath} -std=c++17") ++
         (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
-      Verilator.build(Seq.empty, sourceDir.resolve("main.cpp").toAbsolutePath, top, tmp, "harness", flags, ccache = !fresh, log = log)
+      val main = sourceDir.resolve(if (coproc) "coproc.cpp" else "main.cpp").toAbsolutePath
+      Verilator.build(Seq.empty, main, top, tmp, "harness", flags, ccache = !fresh, log = log)
     }
     if (built) log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     dir.resolve("harness")
@@ -117,7 +124,7 @@ object Harness {
                               clockGhz: Double = 1.5, wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue,
                               latencyMax: Int = 0, queryGap: Double = 0, reqStall: Double = 0, respGap: Double = 0,
                               simThreads: Int = 1, tailProb: Double = 0, tailLatency: Int = 0, fault: Option[String] = None,
-                              faultAt: Long = 0, results: Option[Path] = None) {
+                              faultAt: Long = 0, results: Option[Path] = None, frameScale: Option[Int] = None, poll: Boolean = false) {
     MapmError.check(simThreads >= 1 && simThreads <= 64, s"--sim-threads must be 1..64, got $simThreads")
     MapmError.check(latency >= 0, s"--latency must be at least 0, got $latency")
     MapmError.check(seed >= 0, s"--seed must be 0..${Long.MaxValue}, got $seed")
@@ -140,7 +147,8 @@ object Harness {
       (if (tailProb > 0) Seq("--tail-latency", tailLatency.toString) else Seq.empty) ++
       fault.toSeq.flatMap(f => Seq("--fault", f, "--fault-at", faultAt.toString)) ++
       wave.toSeq.flatMap(w => Seq("--wave", w.toString, "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString)) ++
-      results.toSeq.flatMap(r => Seq("--results", r.toString))
+      results.toSeq.flatMap(r => Seq("--results", r.toString)) ++
+      frameScale.toSeq.flatMap(s => Seq("--frame-scale", s.toString)) ++ (if (poll) Seq("--poll") else Seq.empty)
   }
 
   /** The faults the harness injects (`--fault`, tools/harness/fault.h, docs/harness.md). */

@@ -12,7 +12,7 @@ import scala.jdk.CollectionConverters._
   * src/main/scala/mapm except the renderer and the host-side code) and the Chisel and firtool
   * versions, so a changed generator re-emits. Beside the Verilog it writes `mapm_config.h` ([[HarnessHeader]]). */
 object MapmRtl {
-  def topName(p: MapmParams): String = s"Mapm_${p.name}"
+  def topName(p: MapmParams): String = if (p.sim.coproc) s"MapmCoproc_${p.name}" else s"Mapm_${p.name}"
 
   /** A hash of the hardware generator sources (everything under src/main/scala/mapm but the renderer, the command line, the simulation code and the host-side pipelines, cost orchestration and evaluation). */
   def hardwareSourceHash: String = {
@@ -30,8 +30,13 @@ object MapmRtl {
     val dir = BuildCache.entry("emit", top, Seq(p.toString, hardwareSourceHash), d => Files.isRegularFile(d.resolve(s"$top.sv"))) { tmp =>
       log(s"emitting $top ...")
       val t0 = System.nanoTime()
-      Emit.toFile(new Mapm(p), tmp, s"$top.sv")
-      Files.write(tmp.resolve("mapm_config.h"), HarnessHeader(p).getBytes(UTF_8))
+      if (p.sim.coproc) {
+        Emit.toFile(new mapm.soc.MapmCoproc(p), tmp, s"$top.sv")
+        Files.write(tmp.resolve("mapm_config.h"), CoprocHarnessHeader(p, top).getBytes(UTF_8))
+      } else {
+        Emit.toFile(new Mapm(p), tmp, s"$top.sv")
+        Files.write(tmp.resolve("mapm_config.h"), HarnessHeader(p).getBytes(UTF_8))
+      }
       log(f"emitted in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     }
     (dir, top)

@@ -34,8 +34,8 @@ class Contribution(p: MapmParams) extends Bundle {
   * the next cycle, forwarding it to a read of the same pixel in between. A result whose pixel lies
   * outside `pixelBase .. pixelBase + pixelCount - 1` is refused (fault `pixel`).
   *
-  * `clear` zeroes every pixel (one row of every bank a cycle; `ready` is low and `room` zero
-  * meanwhile). `read` reads a pixel's entry for the writer (`readOut` the next cycle); it is for
+  * `clear` zeroes the pass's pixels (one row of every bank a cycle: pixelCount / banks cycles;
+  * `ready` is low and `room` zero meanwhile). `read` reads a pixel's entry for the writer (`readOut` the next cycle); it is for
   * when the accumulator is `idle`.
   *
   * Latency: 3 cycles from a result to its pixel's entry when its FIFO and bank are free.
@@ -67,11 +67,12 @@ class FrameAccumulator(p: MapmParams) extends Module {
     val readOut = Valid(new PixelSums(fa))
   })
 
-  // Clearing: one row of every bank per cycle.
+  // Clearing: one row of every bank per cycle, the rows the pass's pixels use.
   private val clearing = RegInit(false.B)
   private val clearRow = RegInit(0.U(log2Ceil(rows + 1).W))
+  private val usedRows = (io.pixelCount +& (banks - 1).U) >> bankBits
   when(io.clear) { clearing := true.B; clearRow := 0.U }
-  .elsewhen(clearing) { clearRow := clearRow + 1.U; when(clearRow === (rows - 1).U) { clearing := false.B } }
+  .elsewhen(clearing) { clearRow := clearRow + 1.U; when(clearRow + 1.U >= usedRows) { clearing := false.B } }
   io.ready := !clearing
 
   private val faults = RegInit(0.U.asTypeOf(new FrameFaults))

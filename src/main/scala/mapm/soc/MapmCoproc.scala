@@ -31,11 +31,7 @@ import mapm.top.Mapm
   * with the first reads) and the write-out (about one cycle per pixel). Throughput: the MAPM's.
   */
 class MapmCoproc(val p: MapmParams) extends Module {
-  /** The reads' ids: the MAPM's memory port's and the stream reader's, one bit above to tell them apart. */
-  private val readIds = MemArbiter.downParams(Seq(mapm.uncore.Shapes(p).mem, StreamReader.memParams(p))).idBits
-  require(p.coproc.axiIdBits == 0 || p.coproc.axiIdBits >= readIds,
-    s"AXI4 ids of ${p.coproc.axiIdBits} bits cannot name the ${1 << readIds} reads this configuration may have outstanding: give at least $readIds (or 0)")
-  val axiParams: Axi4Params = Axi4Params(p.memory.addressBits, p.memory.dataBytes, if (p.coproc.axiIdBits == 0) readIds else p.coproc.axiIdBits)
+  val axiParams: Axi4Params = MapmCoproc.axiParams(p)
   override def desiredName = s"MapmCoproc_${p.name}"
   private val lanes = p.counts.som * p.counts.soaPerSom
 
@@ -167,6 +163,15 @@ class MapmCoproc(val p: MapmParams) extends Module {
 }
 
 object MapmCoproc {
+  /** The AXI4 port of configuration `p`. Its ids name the reads: the MAPM's memory port's and the
+    * stream reader's, one bit above to tell them apart. */
+  def axiParams(p: MapmParams): Axi4Params = {
+    val readIds = MemArbiter.downParams(Seq(mapm.uncore.Shapes(p).mem, StreamReader.memParams(p))).idBits
+    require(p.coproc.axiIdBits == 0 || p.coproc.axiIdBits >= readIds,
+      s"AXI4 ids of ${p.coproc.axiIdBits} bits cannot name the ${1 << readIds} reads this configuration may have outstanding: give at least $readIds (or 0)")
+    Axi4Params(p.memory.addressBits, p.memory.dataBytes, if (p.coproc.axiIdBits == 0) readIds else p.coproc.axiIdBits)
+  }
+
   /** The identification registers' field values ("REGISTER.field" -> value) for `p`. */
   def ident(p: MapmParams, ap: Axi4Params): Map[String, BigInt] = {
     val f = p.numbers.format
