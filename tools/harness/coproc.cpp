@@ -27,6 +27,7 @@ extern "C" {
 #include "mapm_driver.h"
 }
 #include "mapm_driver.c"
+#include "mapm_run_frame.c"  // docs/examples: the driver's example, which runs every pass here
 
 namespace {
 
@@ -185,28 +186,21 @@ int main(int argc, char** argv) {
   sys = &s;
   s.reset();
   mapm_bus bus = {busRead, busWrite, opt.poll ? nullptr : busWaitIrq, nullptr};
-  mapm_info info;
   uint64_t counters[COUNTER_COUNT + 1] = {0};
   uint64_t passCycles = 0;
   bool stopped = false;
   try {
-    int rc = mapm_identify(&bus, &info);
     mapm_frame f = {};
     f.exp_width = img.ew; f.man_width = img.mw; f.slot_bytes = img.slot;
     f.node_base = IMAGE_BYTES; f.photon_base = img.photonBase; f.query_base = img.queryBase; f.stream_base = img.streamBase;
     f.frame_base = frameBase; f.radius = img.h; f.node_count = img.nodes; f.query_count = img.queries;
     f.pixel_base = 0; f.pixel_count = (uint32_t)pixels; f.frame_scale = (int32_t)opt.frameScale;
-    if (rc == MAPM_OK) rc = mapm_configure(&bus, &info, &f);
+    static_assert(MAPM_COUNTER_COUNT == COUNTER_COUNT, "the register map's counters are the top's");
     const uint64_t started = s.cycle;
-    if (rc == MAPM_OK) rc = mapm_start(&bus, !opt.poll);
-    if (rc == MAPM_OK) rc = mapm_wait(&bus, UINT64_MAX);
+    char why[512];
+    const int rc = mapm_run_frame(&bus, &f, !opt.poll, counters, why, sizeof why);
     passCycles = s.cycle - started;
-    if (rc != MAPM_OK) {
-      char line[512];
-      mapm_describe(&bus, rc, line, sizeof line);
-      failure = std::string("driver: ") + line;
-    }
-    for (unsigned k = 0; k < MAPM_COUNTER_COUNT && k < (unsigned)COUNTER_COUNT; k++) counters[k] = mapm_counter(&bus, k);
+    if (rc != MAPM_OK) failure = std::string("driver: ") + why;
   } catch (const std::string& why) {
     failure = why;
     stopped = why.rfind("stopped at --max-cycles", 0) == 0;

@@ -21,12 +21,13 @@ import mapm.memory.RegFifo
   * Latency: a fault shows the cycle after the handshake or the cycle that broke the rule.
   * Throughput: one beat on every channel each cycle.
   *
-  * @param maxWrites AWs whose data has not all been sent that it can follow (more is a fault)
+  * @param maxReads  read bursts outstanding that it can follow (more is a fault)
+  * @param maxWrites AWs whose data has not all been sent, and writes awaiting their B, that it can
+  *                  follow (more is a fault)
   */
-class Axi4Checker(p: Axi4Params, maxWrites: Int = 8) extends Module {
-  require(p.idBits <= 10, s"the AXI4 checker tracks each id: at most 10 id bits, got ${p.idBits}")
-  require(maxWrites >= 1, s"the AXI4 checker follows at least one write, got $maxWrites")
-  override def desiredName = s"Axi4Checker_id${p.idBits}_w$maxWrites"
+class Axi4Checker(p: Axi4Params, maxReads: Int = 64, maxWrites: Int = 8) extends Module {
+  require(maxReads >= 1 && maxWrites >= 1, s"the AXI4 checker follows at least one read and one write, got $maxReads and $maxWrites")
+  override def desiredName = s"Axi4Checker_id${p.idBits}_r${maxReads}_w$maxWrites"
   import Axi4Checker._
 
   val io = IO(new Bundle {
@@ -50,22 +51,30 @@ class Axi4Checker(p: Axi4Params, maxWrites: Int = 8) extends Module {
     x.burst =/= Axi4.BurstIncr || x.size > p.sizeCode.U || (x.addr(11, 0) +& bytes) > Axi4.BoundaryBytes.U
   }
 
-  // Reads: one burst per id at a time, its beats left.
-  private val readBusy = RegInit(VecInit(Seq.fill(ids)(false.B)))
-  private val readLeft = Reg(Vec(ids, UInt(8.W)))
-  private val rKnown = readBusy(a.r.bits.id)
-  private val rLastDue = readLeft(a.r.bits.id) === 0.U
+  // Reads: a table of the bursts outstanding (one per id), each with its beats left.
+  private val rValid = RegInit(VecInit(Seq.fill(maxReads)(false.B)))
+  private val rId = Reg(Vec(maxReads, UInt(p.idBits.W)))
+  private val rLeft = Reg(Vec(maxReads, UInt(8.W)))
   private val rFire = a.r.fire
+  private val rHit = VecInit((0 until maxReads).map(i => rValid(i) && rId(i) === a.r.bits.id))
+  private val rKnown = rHit.asUInt.orR
+  private val rAt = PriorityEncoder(rHit)
+  private val rLastDue = rLeft(rAt) === 0.U
   private val rEnds = rFire && rKnown && rLastDue
-  when(rFire && rKnown) { readLeft(a.r.bits.id) := readLeft(a.r.bits.id) - 1.U }
-  when(rEnds) { readBusy(a.r.bits.id) := false.B }
-  private val arReuse = a.ar.fire && readBusy(a.ar.bits.id) && !(rEnds && a.r.bits.id === a.ar.bits.id)
-  when(a.ar.fire) {
-    readBusy(a.ar.bits.id) := true.B
-    readLeft(a.ar.bits.id) := a.ar.bits.len
+  when(rFire && rKnown) { rLeft(rAt) := rLeft(rAt) - 1.U }
+  when(rEnds) { rValid(rAt) := false.B }
+  private val arHit = VecInit((0 until maxReads).map(i => rValid(i) && rId(i) === a.ar.bits.id && !(rEnds && rAt === i.U)))
+  private val arReuse = a.ar.fire && arHit.asUInt.orR
+  private val rFree = VecInit(rValid.map(!_))
+  private val arFull = a.ar.fire && !rFree.asUInt.orR
+  private val rSlot = PriorityEncoder(rFree)
+  when(a.ar.fire && !arFull) {
+    rValid(rSlot) := true.B
+    rId(rSlot) := a.ar.bits.id
+    rLeft(rSlot) := a.ar.bits.len
   }
 
-  // Writes: the AWs whose data is being sent, in order; per id the bursts sent awaiting B.
+  // Writes: the AWs whose data is being sent, in order; then a table of the bursts sent awaiting B.
   private val awQ = Module(new RegFifo(new Axi4Checker.Burst(p), maxWrites))
   awQ.io.enq.valid := a.aw.fire
   awQ.io.enq.bits.id := a.aw.bits.id
@@ -77,13 +86,16 @@ class Axi4Checker(p: Axi4Params, maxWrites: Int = 8) extends Module {
   private val wEnds = wFire && wOwned && wLastDue
   awQ.io.deq.ready := wEnds
   when(wFire && wOwned) { beat := Mux(wLastDue, 0.U, beat + 1.U) }
-  private val sent = RegInit(VecInit(Seq.fill(ids)(0.U(8.W))))
-  private val bKnown = sent(a.b.bits.id) =/= 0.U
-  private val sentId = awQ.io.deq.bits.id
-  for (i <- 0 until ids) {
-    val up = wEnds && sentId === i.U
-    val down = a.b.fire && bKnown && a.b.bits.id === i.U
-    sent(i) := sent(i) + up.asUInt - down.asUInt
+  private val bValid = RegInit(VecInit(Seq.fill(maxWrites)(false.B)))
+  private val bId = Reg(Vec(maxWrites, UInt(p.idBits.W)))
+  private val bHit = VecInit((0 until maxWrites).map(i => bValid(i) && bId(i) === a.b.bits.id))
+  private val bKnown = bHit.asUInt.orR
+  when(a.b.fire && bKnown) { bValid(PriorityEncoder(bHit)) := false.B }
+  private val bFree = VecInit(bValid.map(!_))
+  private val sentFull = wEnds && !bFree.asUInt.orR
+  when(wEnds && !sentFull) {
+    bValid(PriorityEncoder(bFree)) := true.B
+    bId(PriorityEncoder(bFree)) := awQ.io.deq.bits.id
   }
 
   private val master = Wire(Vec(MasterRules.size, Bool()))
@@ -94,7 +106,7 @@ class Axi4Checker(p: Axi4Params, maxWrites: Int = 8) extends Module {
   master(4) := a.aw.valid && badBurst(a.aw.bits)
   master(5) := wFire && (!wOwned || a.w.bits.last =/= wLastDue)
   master(6) := arReuse
-  master(7) := a.aw.fire && !awQ.io.enq.ready
+  master(7) := (a.aw.fire && !awQ.io.enq.ready) || arFull || sentFull
 
   private val slave = Wire(Vec(SlaveRules.size, Bool()))
   slave(0) := rFire && !rKnown
@@ -109,7 +121,7 @@ class Axi4Checker(p: Axi4Params, maxWrites: Int = 8) extends Module {
   sSticky := sSticky | slave.asUInt
   io.masterFault := mSticky
   io.slaveFault := sSticky
-  io.idle := !readBusy.asUInt.orR && !awQ.io.deq.valid && sent.map(_ === 0.U).reduce(_ && _)
+  io.idle := !rValid.asUInt.orR && !awQ.io.deq.valid && !bValid.asUInt.orR
 }
 
 object Axi4Checker {
@@ -128,7 +140,7 @@ object Axi4Checker {
     "an AW burst is not INCR, is wider than the bus or crosses a 4 KiB boundary",
     "a W beat with no accepted AW, or WLAST not on the burst's last beat",
     "a read id reused while a read with it is outstanding",
-    "more writes awaiting their data than the checker follows")
+    "more reads or writes outstanding than the checker follows")
   /** The memory's rules, bit by bit of `slaveFault`. */
   val SlaveRules: Seq[String] = Seq(
     "an R beat for an id with no read outstanding",

@@ -30,6 +30,8 @@ object Harness {
   def sourceDir: Path = root.resolve("tools/harness")
   /** The coprocessor's C driver (its harness includes it). */
   def driverDir: Path = root.resolve("tools/driver")
+  /** The driver's example (docs/examples/mapm_run_frame.c), which the coprocessor's harness runs. */
+  def exampleDir: Path = root.resolve("docs/examples")
 
   private def sources: Seq[Path] =
     Files.list(sourceDir).iterator.asScala.filter(p => p.toString.endsWith(".cpp") || p.toString.endsWith(".h")).toSeq.sortBy(_.toString)
@@ -60,7 +62,7 @@ object Harness {
     val formats = CHeader.formats
     val coproc = configHeader.contains("#define MAPM_COPROC 1")
     val regs = mapm.format.RegisterMap.cHeader
-    val driver = Seq("mapm_driver.h", "mapm_driver.c").map(driverDir.resolve)
+    val driver = Seq("mapm_driver.h", "mapm_driver.c").map(driverDir.resolve) :+ exampleDir.resolve("mapm_run_frame.c")
     val vlt = noInlineConfig(svTexts.mkString("\n"))
     val designFlags = if (configHeader.contains("#define MAPM_FIDELITY_TIMING 1")) timingFlags else Seq.empty
     val inputs = svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
@@ -83,7 +85,7 @@ object Harness {
       val config = tmp.resolve("no-inline.vlt")
       Files.write(config, vlt.getBytes(UTF_8))
       Files.write(fileList, (config +: svs).map(_.toAbsolutePath.toString).mkString("\n").getBytes(UTF_8))
-      val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${driverDir.toAbsolutePath} -I${tmp.toAbsolutePath} -std=c++17") ++
+      val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${driverDir.toAbsolutePath} -I${exampleDir.toAbsolutePath} -I${tmp.toAbsolutePath} -std=c++17") ++
         (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
       val main = sourceDir.resolve(if (coproc) "coproc.cpp" else "main.cpp").toAbsolutePath
       Verilator.build(Seq.empty, main, top, tmp, "harness", flags, ccache = !fresh, log = log)

@@ -12,7 +12,8 @@ import mapm.params.{MapmParams, Rgb}
   *
   * It reads one entry a cycle from the accumulator (while the output has room), lays the records
   * into beats of the AXI4 data width (strobes cover only the pass's bytes), and writes them in
-  * INCR bursts of up to 16 beats that never cross 4 KiB, AW before its W beats, under id 0. `done`
+  * INCR bursts of up to 16 beats that never cross 4 KiB, AW before its W beats, under id 0, at most
+  * [[FrameWriter.MaxWrites]] awaiting their B. `done`
   * rises when every burst's B has come back; `error` is sticky if one came back SLVERR or DECERR.
   *
   * Latency: about 3 cycles from an entry to its beat. Throughput: one pixel a cycle while a beat
@@ -108,7 +109,8 @@ class FrameWriter(p: MapmParams, ap: Axi4Params) extends Module {
   private val toPage = (4096.U - addr(11, 0)) >> log2Ceil(db)
   private val burstBeats = Seq(16.U, awLeft, toPage).reduce((a, b) => Mux(a < b, a, b))
   private val lens = Module(new Queue(UInt(8.W), 4))
-  io.aw.valid := busy && awLeft =/= 0.U && lens.io.enq.ready
+  private val bLeft = RegInit(0.U(log2Ceil(FrameWriter.MaxWrites + 1).W))
+  io.aw.valid := busy && awLeft =/= 0.U && lens.io.enq.ready && bLeft < FrameWriter.MaxWrites.U
   io.aw.bits := 0.U.asTypeOf(io.aw.bits)
   io.aw.bits.addr := addr
   io.aw.bits.len := burstBeats - 1.U
@@ -117,7 +119,6 @@ class FrameWriter(p: MapmParams, ap: Axi4Params) extends Module {
   io.aw.bits.cache := "b0011".U
   lens.io.enq.valid := io.aw.fire
   lens.io.enq.bits := burstBeats - 1.U
-  private val bLeft = RegInit(0.U((tileLog2 + 2).W))
   when(io.aw.fire) { addr := addr + (burstBeats << log2Ceil(db)); awLeft := awLeft - burstBeats }
   private val beat = RegInit(0.U(8.W))
   io.w.valid := beats.io.deq.valid && lens.io.deq.valid
@@ -153,6 +154,9 @@ class FrameWriter(p: MapmParams, ap: Axi4Params) extends Module {
 }
 
 object FrameWriter {
+  /** Write bursts outstanding at once (AW taken, B not yet). */
+  val MaxWrites: Int = 8
+
   /** Bytes of a pixel's record in the frame buffer: four value slots (r, g, b, 0). */
   def pixelBytes(p: MapmParams): Int = 4 * p.slotBytes
 }

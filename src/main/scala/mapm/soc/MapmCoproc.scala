@@ -64,7 +64,7 @@ class MapmCoproc(val p: MapmParams) extends Module {
   }
   val bridge = Module(new Axi4ReadBridge(arb.io.down.p, axiParams, p.memory.maxOutstanding))
   val writer = Module(new FrameWriter(p, axiParams))
-  val checker = Module(new Axi4Checker(axiParams))
+  val checker = Module(new Axi4Checker(axiParams, p.memory.maxOutstanding, FrameWriter.MaxWrites))
   val check = Module(new PassCheck(p))
   check.io.config := cfg
 

@@ -110,7 +110,8 @@ class RegisterMapSpec extends AnyFunSuite {
          |}
          |""".stripMargin
     Files.writeString(dir.resolve("prog.c"), prog)
-    val srcs = Seq(dir.resolve("prog.c").toString, driver.resolve("mapm_driver.c").toString)
+    val srcs = Seq(dir.resolve("prog.c").toString, driver.resolve("mapm_driver.c").toString,
+      Paths.get("docs/examples/mapm_run_frame.c").toAbsolutePath.toString)
     compile("c", "prog_c", srcs: _*)
     compile("c++", "prog_cpp", srcs: _*)
     for (exe <- Seq("prog_c", "prog_cpp")) {
