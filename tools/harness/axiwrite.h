@@ -1,6 +1,8 @@
 // The write side of the coprocessor's memory (docs/harness.md): takes AXI4 write bursts (AW, then
 // its W beats), writes the strobed bytes into the memory, and answers each burst with one B after
-// the memory latency. Every burst must lie inside the writable span (the frame buffer).
+// the memory latency. Every burst must lie inside the writable span (the frame buffer). Writes take
+// the memory's bandwidth as reads do (--bandwidth bytes per cycle; the frame is written after the
+// reads are done, so the two do not compete).
 #pragma once
 #include <cstdint>
 #include <cstring>
@@ -10,8 +12,15 @@
 
 class WriteSlave {
  public:
-  WriteSlave(std::vector<uint8_t>& mem, uint64_t lo, uint64_t hi, int dataBytes, uint64_t latency)
-      : mem_(mem), lo_(lo), hi_(hi), dataBytes_(dataBytes), latency_(latency) {}
+  WriteSlave(std::vector<uint8_t>& mem, uint64_t lo, uint64_t hi, int dataBytes, uint64_t latency, double bytesPerCycle)
+      : mem_(mem), lo_(lo), hi_(hi), dataBytes_(dataBytes), latency_(latency), bandwidth_(bytesPerCycle) {}
+
+  // Whether a W beat can be taken this cycle (the bandwidth's credit), called once a cycle.
+  bool canTake() {
+    credit_ += bandwidth_;
+    if (credit_ > dataBytes_ + bandwidth_) credit_ = dataBytes_ + bandwidth_;
+    return credit_ >= dataBytes_;
+  }
 
   // An AW taken: a burst of len + 1 beats from addr under id.
   std::string address(uint64_t addr, uint64_t id, uint64_t len) {
@@ -30,6 +39,7 @@ class WriteSlave {
     for (int j = 0; j < dataBytes_; j++)
       if (strb >> j & 1) { mem_[at + j] = data[j]; bytesWritten_++; }
     b.sent++;
+    credit_ -= dataBytes_;
     if (last != (b.sent == b.beats)) return "memory protocol: WLAST on beat " + std::to_string(b.sent) + " of " + std::to_string(b.beats);
     if (b.sent == b.beats) { answers_.push_back({b.id, cycle + latency_}); bursts_.pop_front(); writes_++; }
     return "";
@@ -53,6 +63,7 @@ class WriteSlave {
   uint64_t lo_, hi_;
   int dataBytes_;
   uint64_t latency_;
+  double bandwidth_, credit_ = 0;
   std::deque<Burst> bursts_;
   std::deque<Answer> answers_;
   uint64_t bytesWritten_ = 0, writes_ = 0;

@@ -74,7 +74,7 @@ struct System {
     Top* t = top.get();
     const bool arR = !(opt.reqStall > 0 && coin(host) < opt.reqStall);
     const bool awR = !(opt.reqStall > 0 && coin(host) < opt.reqStall);
-    const bool wRdy = !(opt.reqStall > 0 && coin(host) < opt.reqStall);
+    const bool wRdy = wr.canTake() && !(opt.reqStall > 0 && coin(host) < opt.reqStall);
     setArReady(t, arR); setAwReady(t, awR); setWReady(t, wRdy);
     uint64_t rid = 0; bool rlast = false;
     const bool rv = dram.present(cycle, beat, &rid, &rlast);
@@ -180,7 +180,7 @@ int main(int argc, char** argv) {
   readable.push_back({img.streamBase, img.bytes.size()});
   Dram dram(mem, readable, MAPM_MEM_DATA_BYTES, opt.latency, opt.latencyMax ? opt.latencyMax : opt.latency, opt.bandwidth, opt.respGap,
             opt.seed, opt.tailProb, opt.tailLatency);
-  WriteSlave wr(mem, frameBase, frameEnd, MAPM_MEM_DATA_BYTES, opt.latency);
+  WriteSlave wr(mem, frameBase, frameEnd, MAPM_MEM_DATA_BYTES, opt.latency, opt.bandwidth);
   Checker check(exp, img, pixels);
   System s(opt, argc, argv, dram, wr, check);
   sys = &s;
