@@ -39,13 +39,16 @@ object EmitCommand extends Command {
       hw: HwOptions
   ): Int = {
     val p = Configure.of(tsm, som, soa, format, g, layout, arith, fidelity, hw.tuning)
-    val top = s"Mapm_${p.name}"
+    val top = mapm.sim.MapmRtl.topName(p)
     val dir = Paths.get(out)
     val t0 = System.nanoTime()
-    val sv = Emit.systemVerilog(new Mapm(p))
+    val sv = Emit.systemVerilog(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p))
     val design = EmitFiles.read(sv, top)
+    // The coprocessor's C header of its registers (mapm_regs.h) beside its harness header.
+    val headers = if (p.sim.coproc) Seq("mapm_config.h" -> mapm.sim.CoprocHarnessHeader(p, top), "mapm_regs.h" -> mapm.format.RegisterMap.cHeader)
+      else Seq("mapm_config.h" -> mapm.sim.HarnessHeader(p))
     val files =
-      try design.write(dir) :+ Files.write(dir.resolve("mapm_config.h"), mapm.sim.HarnessHeader(p).getBytes(UTF_8))
+      try design.write(dir) ++ headers.map { case (f, text) => Files.write(dir.resolve(f), text.getBytes(UTF_8)) }
       catch { case e: java.io.IOException => MapmError.fail(s"$name: cannot write into $out: ${e.getMessage}") }
     val secs = (System.nanoTime() - t0) / 1e9
     println(f"emitted $top (${p.counts.label}, format ${p.numbers.format} in ${p.slotBytes}-byte slots, $arith arithmetic, g = $g${if (fidelity == Fidelity.Timing) ", SOAs as timing models" else ""}) in $secs%.1f s")

@@ -58,9 +58,9 @@ object ConfigCost {
   /** Emits `p` for synthesis and synthesizes it once: the blocks, their parts and every cache
     * kept as modules, the SRAM arrays black boxes. */
   private def synthesize(flow: CostFlow, p: MapmParams, dir: Path, log: String => Unit): Synthesized = {
-    val top = s"Mapm_${p.name}"
+    val top = mapm.sim.MapmRtl.topName(p)
     log(s"emitting $top for synthesis ...")
-    val (sv, tags) = CostBlock.collect(Emit.toFile(new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true))
+    val (sv, tags) = CostBlock.collect(Emit.toFile(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true))
     val hier = Hierarchy.parse(new String(Files.readAllBytes(sv), StandardCharsets.UTF_8))
     val mems = hier.memories.keys.toSeq.sorted
     val blocksOf = hier.children(top).distinct.filterNot(mems.contains)

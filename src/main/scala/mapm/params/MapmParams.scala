@@ -230,8 +230,8 @@ final case class CoprocParams(
     tileLog2: Int = 13,     // a frame pass covers at most 2^tileLog2 pixels (8192: the 75 x 60 frames in one pass)
     accBits: Int = 0,       // bits of a pixel channel's fixed-point sum; 0: 64 up to 32-bit formats, 128 above
     countBits: Int = 24,    // bits of a pixel's contribution count (at most 2^24 - 1 contributions a pixel)
-    banks: Int = 0,         // accumulator banks (a power of two); 0: one per two SOAs, at least 1
-    laneFifo: Int = 0,      // result FIFO entries per SOA lane; 0: the lane's RS entries + its SOA's latency + 8
+    banks: Int = 0,         // accumulator banks (a power of two); 0: one per SOA (rounded down to a power of two)
+    laneFifo: Int = 0,      // result FIFO entries per SOA lane; 0: the lane's RS entries + its SOA's latency + 32
     axiIdBits: Int = 0,     // AXI4 id width; 0: as many as the reads need (the MAPM's memory port's, plus one)
     streamLines: Int = 4    // 64-byte lines of the query stream read ahead
 ) {
@@ -295,7 +295,7 @@ final case class MapmParams(
   /** Banks of the frame accumulator. */
   def frameBanks: Int =
     if (coproc.banks != 0) coproc.banks
-    else math.min(1 << coproc.tileLog2, math.max(1, Integer.highestOneBit(counts.som * counts.soaPerSom / 2)))
+    else math.min(1 << coproc.tileLog2, math.max(1, Integer.highestOneBit(counts.som * counts.soaPerSom)))
   require(frameAccum.limitBits >= numbers.format.manWidth + 2,
     s"frame sums of ${frameAccum.accBits} bits with ${coproc.countBits}-bit counts leave too few bits for a ${numbers.format.manWidth + 1}-bit significand")
 

@@ -142,11 +142,11 @@ class SomLane(p: MapmParams) extends Module {
 }
 
 object SomLane {
-  /** Results a lane may have on their way at once: its reservation-station entries and its SOA's
-    * latency, plus 8 (`CoprocParams.laneFifo`, or this where it is 0). A consumer with this much
-    * room never slows the lane. */
+  /** Results a lane may have on their way at once (`CoprocParams.laneFifo`, or where it is 0 its
+    * reservation-station entries and its SOA's latency, which a running lane fills, plus 32 that
+    * absorb a consumer's bursts). A consumer that always has this much room never slows the lane. */
   def resultFifo(p: MapmParams): Int =
     if (p.coproc.laneFifo != 0) p.coproc.laneFifo
-    else p.rsPerSoa + SOA.latency(p.numbers.format, p.numbers.guardDigits, FpuDepth.of(p.numbers.format, p.numbers.fpuStageWeight), p.numbers.arith) + 8
+    else p.rsPerSoa + SOA.latency(p.numbers.format, p.numbers.guardDigits, FpuDepth.of(p.numbers.format, p.numbers.fpuStageWeight), p.numbers.arith) + 32
 }
 

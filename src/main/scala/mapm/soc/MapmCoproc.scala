@@ -9,6 +9,7 @@ import mapm.numerics.Arith
 import mapm.params.{Fidelity, MapmParams, SoResult}
 import mapm.format.SlotLayout
 import mapm.top.Mapm
+import mapm.util.CostBlock
 
 /** The MAPM as the dissertation's coprocessor (3.2, docs/coprocessor.md): driven through an AXI4-Lite
   * register port ([[RegisterBlock]], [[RegisterMap]]), it reads its query stream ([[StreamReader]]),
@@ -67,6 +68,8 @@ class MapmCoproc(val p: MapmParams) extends Module {
   val checker = Module(new Axi4Checker(axiParams, p.memory.maxOutstanding, FrameWriter.MaxWrites))
   val check = Module(new PassCheck(p))
   check.io.config := cfg
+  CostBlock.tag(this, CostBlock.Coproc)
+  for (m <- Seq(regs, reader, acc, arb, bridge, writer, checker, check)) CostBlock.tag(m, CostBlock.Coproc)
 
   core.io.cfg.h := cfg.radius(p.numbers.format.width - 1, 0)
   core.io.cfg.nodeBase := cfg.nodeBase

@@ -14,8 +14,11 @@ object CostBlock {
   case object Uncore extends CostBlock("uncore")
   case object Caches extends CostBlock("caches")
   case object Top extends CostBlock("top")
+  /** The coprocessor around the MAPM (mapm.soc): registers, stream reader, frame accumulator and
+    * writer, the AXI4 bridge and checker. */
+  case object Coproc extends CostBlock("coprocessor")
   /** The blocks in report order. */
-  val all: Seq[CostBlock] = Seq(TsBlock, SoBlock, Uncore, Caches, Top)
+  val all: Seq[CostBlock] = Seq(TsBlock, SoBlock, Uncore, Caches, Top, Coproc)
 
   private val registry = new DynamicVariable[Option[ArrayBuffer[(BaseModule, CostBlock)]]](None)
 
