@@ -35,6 +35,10 @@ class Checker {
     if (o.pixel != img_.pixel(o.q))
       return "wrong pixel on " + so() + ": " + std::to_string(o.pixel) + ", its query record says " + std::to_string(img_.pixel(o.q));
 #if MAPM_FIDELITY_TIMING
+#ifdef MAPM_COPROC
+    // The coprocessor's timing model computes cond (its accumulator takes the passing SOs).
+    if (o.cond != r.cond()) return "mismatch " + so() + ": cond " + std::to_string(o.cond) + ", expected " + std::to_string(r.cond());
+#endif
     const bool cond = r.cond();
     const uint64_t* colour = r.colour;
 #else

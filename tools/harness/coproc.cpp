@@ -196,6 +196,14 @@ int main(int argc, char** argv) {
     f.frame_base = frameBase; f.radius = img.h; f.node_count = img.nodes; f.query_count = img.queries;
     f.pixel_base = 0; f.pixel_count = (uint32_t)pixels; f.frame_scale = (int32_t)opt.frameScale;
     static_assert(MAPM_COUNTER_COUNT == COUNTER_COUNT, "the register map's counters are the top's");
+    // --bad-config: one thing wrong, which the driver or the pass's check must refuse with its reason.
+    const std::string& bad = opt.badConfig;
+    if (bad == "misaligned") f.photon_base += 16;
+    else if (bad == "overlap") f.frame_base = f.query_base;
+    else if (bad == "no-queries") f.query_count = 0;
+    else if (bad == "too-many-pixels") f.pixel_count = (1u << MAPM_TILE_LOG2) + 1;
+    else if (bad == "format") f.man_width += 1;
+    else if (!bad.empty()) fatal("--bad-config: one of misaligned, overlap, no-queries, too-many-pixels, format; got " + bad);
     const uint64_t started = s.cycle;
     char why[512];
     const int rc = mapm_run_frame(&bus, &f, !opt.poll, counters, why, sizeof why);

@@ -19,6 +19,7 @@ struct Options {
   uint64_t measureFrom = UINT64_MAX;  // --measure-from: callgrind counts from this cycle to the end of the run
   int64_t frameScale = -40;           // --frame-scale: FRAME_SCALE of the coprocessor's pass (docs/coprocessor.md)
   bool poll = false;                  // --poll: the coprocessor's driver polls STATUS instead of waiting for the interrupt
+  std::string badConfig;              // --bad-config KIND: the coprocessor's pass configured wrong on purpose (coproc.cpp)
   Fault fault = Fault::None;
 };
 
@@ -35,7 +36,7 @@ struct Options {
 inline Options parseOptions(int argc, char** argv) {
   enum { IMAGE = 1, EXPECTED, OUT, LATENCY, LATENCY_MAX, BANDWIDTH, QUERY_GAP, REQ_STALL, RESP_GAP, MAX_CYCLES, IDLE_CYCLES,
          SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END, TAIL_PROB, TAIL_LATENCY, FAULT, FAULT_AT, RESULTS, MEASURE_FROM,
-         FRAME_SCALE, POLL };
+         FRAME_SCALE, POLL, BAD_CONFIG };
   static const option longOptions[] = {
       {"image", required_argument, nullptr, IMAGE},           {"expected", required_argument, nullptr, EXPECTED},
       {"out", required_argument, nullptr, OUT},               {"latency", required_argument, nullptr, LATENCY},
@@ -49,6 +50,7 @@ inline Options parseOptions(int argc, char** argv) {
       {"fault", required_argument, nullptr, FAULT},           {"fault-at", required_argument, nullptr, FAULT_AT},
       {"results", required_argument, nullptr, RESULTS},       {"measure-from", required_argument, nullptr, MEASURE_FROM},
       {"frame-scale", required_argument, nullptr, FRAME_SCALE}, {"poll", no_argument, nullptr, POLL},
+      {"bad-config", required_argument, nullptr, BAD_CONFIG},
       {nullptr, 0, nullptr, 0}};
   Options o;
   opterr = 0;  // the errors below say what went wrong
@@ -87,6 +89,7 @@ inline Options parseOptions(int argc, char** argv) {
       case MEASURE_FROM: o.measureFrom = u(); break;
       case FRAME_SCALE: { long long r = strtoll(v.c_str(), &end, 10); if (*end || v.empty() || r < -32768 || r > 32767) usage(name + ": not a scale in -32768..32767: " + v); o.frameScale = r; break; }
       case POLL: o.poll = true; break;
+      case BAD_CONFIG: o.badConfig = v; break;
     }
   }
   for (int i = optind; i < argc; i++)  // getopt_long moves the arguments that are not options here

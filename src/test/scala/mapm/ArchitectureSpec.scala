@@ -50,7 +50,7 @@ class ArchitectureSpec extends AnyFunSuite {
     assert(cycle(Map("a" -> Set("b", "c"), "b" -> Set("c"), "c" -> Set.empty[String])).isEmpty)
   }
 
-  private val hardware = Seq("util", "arith", "fpu", "params", "memory", "axi", "uncore", "tsearch", "shader", "top")
+  private val hardware = Seq("util", "arith", "fpu", "params", "memory", "axi", "uncore", "tsearch", "shader", "top", "soc")
 
   /** The layering rules of docs/architecture.md, each a check of a package graph that returns its
     * violations (none for a good graph). */

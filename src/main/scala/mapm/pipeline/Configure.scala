@@ -72,7 +72,10 @@ final case class Tuning(
     sopL2Banks: Option[Int] = None,         // SOP L2 banks (1: one shared cache, Table 4.2's)
     tsL2Banks: Option[Int] = None,          // TS L2 banks (1: one shared cache, Table 4.2's)
     hierarchy: Hierarchy = Hierarchy.Scalable, // the memory hierarchy the sizes start from
-    coproc: Boolean = false                 // run the coprocessor (docs/coprocessor.md) rather than the bare MAPM
+    coproc: Boolean = false,                // run the coprocessor (docs/coprocessor.md) rather than the bare MAPM
+    frameBanks: Option[Int] = None,         // the coprocessor's accumulator banks
+    resultFifo: Option[Int] = None,         // the coprocessor's result FIFO entries per SOA
+    streamLines: Option[Int] = None         // the coprocessor's query-stream lines read ahead
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
@@ -81,7 +84,8 @@ final case class Tuning(
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
       memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate")) ++
       sopL2Banks.map(b => s"sop-l2-banks=$b") ++ tsL2Banks.map(b => s"ts-l2-banks=$b") ++
-      (if (hierarchy == Hierarchy.Scalable) None else Some(s"hierarchy=$hierarchy")) ++ (if (coproc) Some("coproc") else None)
+      (if (hierarchy == Hierarchy.Scalable) None else Some(s"hierarchy=$hierarchy")) ++ (if (coproc) Some("coproc") else None) ++
+      frameBanks.map(b => s"frame-banks=$b") ++ resultFifo.map(f => s"result-fifo=$f") ++ streamLines.map(l => s"stream-lines=$l")
   }
 
   /** The hierarchy and the sizes given, in a phrase for a log or a report. */
@@ -128,6 +132,8 @@ object Configure {
         numbers = NumberParams(format, g, arith = arith),
         memory = base.memory.copy(layout = layout, maxOutstanding = t.memOutstanding.getOrElse(base.memory.maxOutstanding)),
         sim = SimParams(fidelity, t.coproc),
+        coproc = base.coproc.copy(banks = t.frameBanks.getOrElse(base.coproc.banks), laneFifo = t.resultFifo.getOrElse(base.coproc.laneFifo),
+          streamLines = t.streamLines.getOrElse(base.coproc.streamLines)),
         clocking = ClockingParams(t.soaClockGate),
         uncore = {
           // The hierarchy's L2 structures for the SOP L2 as given, each bank count given in their place.

@@ -126,7 +126,8 @@ object Harness {
                               clockGhz: Double = 1.5, wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue,
                               latencyMax: Int = 0, queryGap: Double = 0, reqStall: Double = 0, respGap: Double = 0,
                               simThreads: Int = 1, tailProb: Double = 0, tailLatency: Int = 0, fault: Option[String] = None,
-                              faultAt: Long = 0, results: Option[Path] = None, frameScale: Option[Int] = None, poll: Boolean = false) {
+                              faultAt: Long = 0, results: Option[Path] = None, frameScale: Option[Int] = None, poll: Boolean = false,
+                              badConfig: Option[String] = None) {
     MapmError.check(simThreads >= 1 && simThreads <= 64, s"--sim-threads must be 1..64, got $simThreads")
     MapmError.check(latency >= 0, s"--latency must be at least 0, got $latency")
     MapmError.check(seed >= 0, s"--seed must be 0..${Long.MaxValue}, got $seed")
@@ -150,7 +151,8 @@ object Harness {
       fault.toSeq.flatMap(f => Seq("--fault", f, "--fault-at", faultAt.toString)) ++
       wave.toSeq.flatMap(w => Seq("--wave", w.toString, "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString)) ++
       results.toSeq.flatMap(r => Seq("--results", r.toString)) ++
-      frameScale.toSeq.flatMap(s => Seq("--frame-scale", s.toString)) ++ (if (poll) Seq("--poll") else Seq.empty)
+      frameScale.toSeq.flatMap(s => Seq("--frame-scale", s.toString)) ++ (if (poll) Seq("--poll") else Seq.empty) ++
+      badConfig.toSeq.flatMap(b => Seq("--bad-config", b))
   }
 
   /** The faults the harness injects (`--fault`, tools/harness/fault.h, docs/harness.md). */
