@@ -15,10 +15,14 @@ class PixelSums(fa: FrameAccum) extends Bundle {
   val sum = Vec(Rgb.Channels, SInt(fa.accBits.W))
 }
 
-/** A passing SO's colour on its way to its pixel's bank: the pixel's offset in the tile. */
+/** A passing SO's colour on its way to its pixel's bank, converted to the accumulator's fixed point
+  * ([[FrameConvert]]): the pixel's offset in the tile, the values, and whether a channel was
+  * refused. */
 class Contribution(p: MapmParams) extends Bundle {
   val offset = UInt(p.coproc.tileLog2.W)
-  val colour = Vec(Rgb.Channels, UInt(p.numbers.format.width.W))
+  val value = Vec(Rgb.Channels, SInt((p.frameAccum.limitBits + 1).W))
+  val nonFinite = Bool()
+  val range = Bool()
 }
 
 /** The frame accumulator (docs/coprocessor.md, "Accumulation"): adds the colour of every SO whose
@@ -30,8 +34,12 @@ class Contribution(p: MapmParams) extends Bundle {
   * fits, so no result is ever dropped (`overflow` would say so). The pixels of the tile (up to
   * 2^tileLog2) are spread over `frameBanks` banks by the low bits of their offset from
   * `pixelBase`; each bank takes one contribution a cycle from the FIFO heads that want it (round
-  * robin), converts its channels ([[FrameConvert]]), reads the pixel's entry and writes the sum back
-  * the next cycle, forwarding it to a read of the same pixel in between. A result whose pixel lies
+  * robin) together with up to [[FrameAccumulator.Combine]] - 1 more heads that name the same pixel
+  * (the SOs of one query, and of the queries of one pixel, which the Morton order runs side by
+  * side), adds them, reads the pixel's entry and writes the sum back the next cycle, forwarding
+  * it to a read of the same pixel in between. The sums are integers, so adding several in one
+  * step is the same as adding them one by one. Each port converts its results ([[FrameConvert]])
+  * before its FIFO. A result whose pixel lies
   * outside `pixelBase .. pixelBase + pixelCount - 1` is refused (fault `pixel`).
   *
   * `clear` zeroes the pass's pixels (one row of every bank a cycle: pixelCount / banks cycles;
@@ -88,7 +96,10 @@ class FrameAccumulator(p: MapmParams) extends Module {
     val inPass = r.bits.pixel >= io.pixelBase && offset < io.pixelCount
     f.io.enq.valid := r.valid && r.bits.cond && inPass
     f.io.enq.bits.offset := offset(tileLog2 - 1, 0)
-    f.io.enq.bits.colour := r.bits.colour
+    val conv = Seq.fill(Rgb.Channels)(Module(new FrameConvert(fa)))
+    for ((cv, ch) <- conv.zipWithIndex) { cv.io.in := r.bits.colour(ch); cv.io.scale := io.scale; f.io.enq.bits.value(ch) := cv.io.out }
+    f.io.enq.bits.nonFinite := conv.map(_.io.nonFinite).reduce(_ || _)
+    f.io.enq.bits.range := conv.map(_.io.range).reduce(_ || _)
     when(r.valid && r.bits.cond && !inPass) { pixelOut := true.B }
     when(f.io.enq.valid && !f.io.enq.ready) { overflow := true.B }
     io.room(l) := Mux(clearing, 0.U, depth.U - f.io.count)
@@ -107,33 +118,52 @@ class FrameAccumulator(p: MapmParams) extends Module {
 
   for (b <- 0 until banks) {
     val mem = SyncReadMem(rows, new PixelSums(fa))
-    // Stage 1: the granted head, converted; its row read.
+    // Stage 1: the granted head and up to Combine - 1 more of the same pixel, added; the row read.
     val rr = RegInit(0.U(Index.bits(lanes).W))
     val (anyWant, pick) = RoundRobin.first(wants(b), rr)
     val any = anyWant && !clearing
-    granted(b) := Mux(any, UIntToOH(pick, lanes), 0.U)
+    val heads = VecInit(fifos.map(_.io.deq.bits))
+    val target = heads(pick).offset
+    val same = VecInit(fifos.zipWithIndex.map { case (f, l) => wants(b)(l) && f.io.deq.bits.offset === target }).asUInt
+    val after = RoundRobin.atOrAfter(pick, lanes)
+    val chosen = (1 until FrameAccumulator.Combine).scanLeft(UIntToOH(pick, lanes)) { (taken, _) =>
+      taken | RoundRobin.firstOneHot(same & ~taken, after)
+    }.last
+    val takes = Mux(any, chosen, 0.U)
+    granted(b) := takes
     when(any) { rr := Index.next(pick, lanes) }
+    val parts = (0 until FrameAccumulator.Combine).map { k =>
+      val oh = (1 to k).foldLeft(takes) { (m, _) => m & (m - 1.U) } // drop the k lowest set bits
+      val one = PriorityEncoderOH(oh)
+      (one.orR, Mux1H(one, heads))
+    }
+    val wide = fa.limitBits + 1 + log2Ceil(FrameAccumulator.Combine)
     val v1 = RegNext(any, false.B)
-    val c1 = RegEnable(VecInit(fifos.map(_.io.deq.bits))(pick), any)
-    val conv = Seq.fill(Rgb.Channels)(Module(new FrameConvert(fa)))
-    for ((cv, ch) <- conv.zipWithIndex) { cv.io.in := c1.colour(ch); cv.io.scale := io.scale }
-    val row1 = rowOf(c1.offset)
+    val row1 = RegEnable(rowOf(target), any)
+    val add1 = RegEnable(VecInit((0 until Rgb.Channels).map(ch =>
+      parts.map { case (v, c) => Mux(v && !c.nonFinite && !c.range, c.value(ch), 0.S).pad(wide) }.reduce(_ +& _))), any)
+    val good1 = RegEnable(PopCount(parts.map { case (v, c) => v && !c.nonFinite && !c.range }), any)
+    val nonFinite1 = RegEnable(parts.map { case (v, c) => v && c.nonFinite }.reduce(_ || _), any)
+    val range1 = RegEnable(parts.map { case (v, c) => v && c.range }.reduce(_ || _), any)
     val readRow = Mux(io.read.valid, rowOf(io.read.bits), row1)
     val rdata = mem.read(readRow, true.B)
     readData(b) := rdata
     // Stage 2: add and write back; the sum just written is forwarded to a read of the same row.
     val v2 = RegNext(v1, false.B)
     val row2 = RegNext(row1)
-    val add2 = RegNext(VecInit(conv.map(_.io.out)))
-    val nonFinite2 = RegNext(conv.map(_.io.nonFinite).reduce(_ || _))
-    val range2 = RegNext(conv.map(_.io.range).reduce(_ || _))
+    val add2 = RegNext(add1)
+    val good2 = RegNext(good1)
+    val nonFinite2 = RegNext(nonFinite1)
+    val range2 = RegNext(range1)
     val last = RegInit(0.U.asTypeOf(Valid(new Bundle { val row = UInt(log2Ceil(rows).max(1).W); val data = new PixelSums(fa) })))
     val old = Mux(last.valid && last.bits.row === row2, last.bits.data, rdata)
-    val full = old.count === fa.maxCount.U
+    // The good contributions count (the model counts each good one, and refuses those beyond the count's range).
+    val counted = old.count +& good2
+    val full = counted > fa.maxCount.U
     val refused = nonFinite2 || range2 || full
     val upd = Wire(new PixelSums(fa))
     upd.bad := old.bad || refused
-    upd.count := Mux(refused, old.count, old.count + 1.U)
+    upd.count := Mux(full, fa.maxCount.U, counted)
     for (ch <- 0 until Rgb.Channels) upd.sum(ch) := Mux(refused, old.sum(ch), old.sum(ch) + add2(ch))
     when(clearing) { mem.write(clearRow, 0.U.asTypeOf(new PixelSums(fa))) }
     .elsewhen(v2) { mem.write(row2, upd) }
@@ -142,7 +172,7 @@ class FrameAccumulator(p: MapmParams) extends Module {
     last.bits.data := upd
     when(v2 && nonFinite2) { faults.nonFinite := true.B }
     when(v2 && range2) { faults.range := true.B }
-    when(v2 && full && !nonFinite2 && !range2) { faults.count := true.B }
+    when(v2 && full) { faults.count := true.B }
     bankIdle(b) := !v1 && !v2
   }
   for ((f, l) <- fifos.zipWithIndex) f.io.deq.ready := granted.map(_(l)).reduce(_ || _)
@@ -155,6 +185,11 @@ class FrameAccumulator(p: MapmParams) extends Module {
 }
 
 /** The accumulation's faults, one bit each (the ERROR_CAUSE bits of the same names). */
+object FrameAccumulator {
+  /** Heads of one pixel a bank adds in one read-add-write. */
+  val Combine: Int = 4
+}
+
 class FrameFaults extends Bundle {
   val pixel = Bool()
   val count = Bool()

@@ -20,13 +20,12 @@ class FrameAccumulatorSpec extends AnyFunSuite with Sim {
   private def params(fifo: Int, banks: Int) = MapmParams.small.copy(counts = ModuleCounts(1, 2, 2),
     coproc = CoprocParams(tileLog2 = 5, laneFifo = fifo, banks = banks))
 
-  private def run(p: MapmParams, seed: Int, results: Int, colour: Random => Long, scale: Int): Unit =
+  private def run(p: MapmParams, seed: Int, results: Int, colour: Random => Long, scale: Int, count: Int = 29): Unit =
     simulate(new FrameAccumulator(p)) { c =>
       val rnd = new Random(seed)
       val lanes = 4
       val latency = 7
       val base = 100
-      val count = 29 // of a 32-pixel tile
       c.io.scale.poke(scale.S); c.io.pixelBase.poke(base.U); c.io.pixelCount.poke(count.U)
       c.io.read.valid.poke(false.B)
       c.io.results.foreach(_.valid.poke(false.B))
@@ -90,6 +89,11 @@ class FrameAccumulatorSpec extends AnyFunSuite with Sim {
     assert(SomLane.resultFifo(p) > 40)
     run(p, 2, 2000, ordinary, -30)
     run(params(8, 32), 3, 2000, ordinary, -30)
+  }
+
+  test("two hot pixels: every lane's results for the same pixel, added four at a time, still the model's sums") {
+    run(params(6, 2), 5, 3000, ordinary, -30, count = 2)
+    run(params(0, 4), 6, 3000, ordinary, -30, count = 1)
   }
 
   test("NaN, infinities and colours beyond the scale: those pixels refused, the rest kept, the faults raised") {
