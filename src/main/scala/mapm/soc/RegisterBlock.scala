@@ -55,7 +55,6 @@ class RegisterBlock(ident: Map[String, BigInt]) extends Module {
   private val irqStatus = RegInit(false.B)
   private val shadow = RegInit(0.U(32.W))
   io.config := cfg
-  when(io.ended) { irqStatus := true.B }
   io.irq := irqStatus && irqEnable
 
   /** The configuration registers by name: their 32-bit words. */
@@ -134,6 +133,8 @@ class RegisterBlock(ident: Map[String, BigInt]) extends Module {
     }
   }
   when(start) { irqStatus := false.B }
+  // After START's clear: a pass refused at its start ends in the cycle it starts.
+  when(io.ended) { irqStatus := true.B }
 
   // Reads: R held until taken.
   private val rValid = RegInit(false.B)
