@@ -86,7 +86,8 @@ object RtlRun {
     mapm.sim.FrameImage.of(frame.map, frame.querySet, layout, Some(queryOrder.of(frame.querySet))).write(image)
     val t1 = System.nanoTime()
     val expected = work.resolve("expected.bin")
-    val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith)
+    val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith,
+      coproc = tuning.coproc)
     Setup(params, Prepared(name, config, frame, layout, image, expected, model, work,
       frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)), arith, builds))
   }
@@ -115,8 +116,8 @@ object RtlRun {
 
   /** The frame of [[setup]] alone, for callers that make their own configurations in its format. */
   def prepare(scene: String, format: Option[FloatFormat], g: Int, outDir: String, threads: Int,
-              layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online): Prepared =
-    setup(scene, format, g, Seq.empty, outDir, threads, layout, arith).prep
+              layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online, coproc: Boolean = false): Prepared =
+    setup(scene, format, g, Seq.empty, outDir, threads, layout, arith, tuning = Tuning(coproc = coproc)).prep
 
   /** Emits, builds and runs configuration `p` (in the frame's format, as [[setup]] makes it) on a
     * prepared frame; the harness writes into `dir` (with a progress bar when `progress`). */
@@ -128,7 +129,8 @@ object RtlRun {
     val built = early.getOrElse(build(p, opts.wave.isDefined, opts.simThreads, log))
     val t2 = System.nanoTime()
     // The coprocessor's pass takes the frame scale the model chose for the frame (docs/coprocessor.md).
-    val runOpts = if (p.sim.coproc) opts.copy(frameScale = Some(prep.model.coproc.scale)) else opts
+    MapmError.check(!p.sim.coproc || prep.model.coproc.isDefined, s"${p.name}: the frame was prepared without the coprocessor's model frame (prepare it with coproc)")
+    val runOpts = if (p.sim.coproc) opts.copy(frameScale = prep.model.coproc.map(_.scale)) else opts
     if (p.sim.coproc) MapmError.check(p.frameAccum == mapm.numerics.FrameAccum.default(p.numbers.format),
       s"${p.name}: the model frame is made with the default frame accumulator, this configuration has ${p.frameAccum}")
     val outcome = Harness.run(built.exe, prep.image, prep.expected, dir, runOpts, if (progress) Some(s"RTL ${p.counts.label}") else None)
@@ -136,7 +138,7 @@ object RtlRun {
     val (times, beside) =
       if (early.isDefined) (Seq("waiting for the build" -> (t2 - t0) / 1e9, "simulation" -> secs(t2)), builds)
       else (builds :+ ("simulation" -> secs(t2)), Seq.empty)
-    val model = if (p.sim.coproc) prep.model.coproc.frame else prep.model.frame
+    val model = if (p.sim.coproc) prep.model.coproc.get.frame else prep.model.frame
     val timingCoproc = p.sim.coproc && p.sim.fidelity == mapm.params.Fidelity.Timing
     val diff = outcome.frame match {
       case None if timingCoproc => None // the SOAs' timing model computes no colour: the frame is the model's

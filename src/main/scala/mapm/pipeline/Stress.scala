@@ -64,7 +64,7 @@ object Stress {
     }
     for (e <- entries) {
       val prep = preps.getOrElseUpdate(e.format,
-        RtlRun.prepare(scene, e.format, g, outDir.resolve(s"stress-${e.format.map(_.name).getOrElse("scene-format")}").toString, threads))
+        RtlRun.prepare(scene, e.format, g, outDir.resolve(s"stress-${e.format.map(_.name).getOrElse("scene-format")}").toString, threads, coproc = tuning.coproc))
       val p = Configure.of(e.tsm, e.som, e.soa, prep.frame.format, g, tuning = tuning)
       val cycles = Seq.newBuilder[Long]
       val bar = new mapm.model.Progress(s"stress ${e.label}", seeds.toLong)

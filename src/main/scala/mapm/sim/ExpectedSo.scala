@@ -22,7 +22,7 @@ object ExpectedSo {
     * @param passing SOs whose cond holds
     * @param frame   the model frame: per pixel and channel, the exact sum of the passing colours,
     *                rounded once (`frame(3 p + c)`) */
-  final case class Result(count: Long, tsOps: Long, passing: Long, frame: Array[Double], coproc: CoprocFrame)
+  final case class Result(count: Long, tsOps: Long, passing: Long, frame: Array[Double], coproc: Option[CoprocFrame])
 
   /** The frame as the coprocessor makes it ([[FrameAccum]], docs/coprocessor.md): the frame buffer's
     * values decoded (`frame(3 p + c)`), at `scale`, the one [[FrameAccum.scaleFor]] gives the
@@ -33,7 +33,7 @@ object ExpectedSo {
     * digits, or conventional) on `threads` threads, writes them to `file` for a `width` x `height`
     * image and returns the counts and model frame. */
   def write(map: PhotonMap, queries: QuerySet, g: Int, width: Int, height: Int, file: Path, threads: Int,
-            progress: Option[String] = None, arith: Arith = Arith.Online): Result = {
+            progress: Option[String] = None, arith: Arith = Arith.Online, coproc: Boolean = false): Result = {
     MapmError.check(map.format == queries.format, s"expected SOs: photon map (${map.format}) and queries (${queries.format}) differ in format")
     val fmt = map.format
     val codec = new ExpectedSoFile.Codec(fmt)
@@ -72,19 +72,22 @@ object ExpectedSo {
         }
       } finally out.close()
     } catch { case e: java.io.IOException => MapmError.fail(s"cannot write expected SOs $file: ${e.getMessage}") }
-    // The coprocessor's frame: the scale from the largest passing colour, then every colour again.
-    val fa = FrameAccum.default(fmt)
-    var maxAbs = 0.0
-    def passingColours(f: (Int, Seq[Long]) => Unit): Unit = for (b <- buffers) {
-      val r = ByteBuffer.wrap(b).order(ByteOrder.LITTLE_ENDIAN)
-      for (at <- 0 until b.length by rec if codec.cond(r, at)) f(queries.pixel(codec.query(r, at)), Seq.tabulate(3)(ch => codec.colour(r, at, ch)))
+    // The coprocessor's frame, where a run asks for it: the scale from the largest passing colour,
+    // then every colour again.
+    def coprocFrame: CoprocFrame = {
+      val fa = FrameAccum.default(fmt)
+      var maxAbs = 0.0
+      def passingColours(f: (Int, Seq[Long]) => Unit): Unit = for (b <- buffers) {
+        val r = ByteBuffer.wrap(b).order(ByteOrder.LITTLE_ENDIAN)
+        for (at <- 0 until b.length by rec if codec.cond(r, at)) f(queries.pixel(codec.query(r, at)), Seq.tabulate(3)(ch => codec.colour(r, at, ch)))
     }
     passingColours((_, cs) => cs.foreach(c => if (fmt.isFinite(c)) maxAbs = math.max(maxAbs, math.abs(fmt.decode(c)))))
     val scale = fa.scaleFor(maxAbs)
     val sums = new FrameSums(fa, width * height, 3, scale)
     passingColours((p, cs) => sums.add(p, cs))
-    val hw = Array.tabulate(3 * width * height)(i => fmt.decode(sums.resolve(i / 3)(i % 3)))
-    Result(count, tsOps.get, passing, Array.tabulate(3 * width * height)(sum.toDouble), CoprocFrame(hw, scale, sums.faults))
+    CoprocFrame(Array.tabulate(3 * width * height)(i => fmt.decode(sums.resolve(i / 3)(i % 3))), scale, sums.faults)
+    }
+    Result(count, tsOps.get, passing, Array.tabulate(3 * width * height)(sum.toDouble), if (coproc) Some(coprocFrame) else None)
   }
 
   /** The records of queries [from, until), sorted by (query, photon). */

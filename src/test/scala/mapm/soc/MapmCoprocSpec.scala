@@ -31,8 +31,8 @@ class MapmCoprocSpec extends AnyFunSuite {
          |  "width": $w, "height": $h, "finalGatherRays": $rays, "photons": $photons, "maxBounces": 4,
          |  "h": $radius, "seed": 5, "directLightSamples": 0 }""".stripMargin.getBytes("UTF-8"))
   }
-  private lazy val small = RtlRun.prepare(scene("small", 6, 5, 3, 64, """{ "auto": 12 }""").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
-  private lazy val large = RtlRun.prepare(scene("large", 8, 6, 4, 1000, """{ "auto": 20 }""").toString, Some(FloatFormat.fp32), 3, dir.toString, 2)
+  private lazy val small = RtlRun.prepare(scene("small", 6, 5, 3, 64, """{ "auto": 12 }""").toString, Some(FloatFormat.fp32), 3, dir.toString, 2, coproc = true)
+  private lazy val large = RtlRun.prepare(scene("large", 8, 6, 4, 1000, """{ "auto": 20 }""").toString, Some(FloatFormat.fp32), 3, dir.toString, 2, coproc = true)
   private val stress = Harness.RunOptions(latency = 0, latencyMax = 300, reqStall = 0.2, respGap = 0.2, maxCycles = 5000000)
   private def coproc(t: Int, s: Int, a: Int) = Configure.of(t, s, a, FloatFormat.fp32, 3, tuning = Tuning(coproc = true))
 
