@@ -80,12 +80,12 @@ object ExpectedSo {
       def passingColours(f: (Int, Seq[Long]) => Unit): Unit = for (b <- buffers) {
         val r = ByteBuffer.wrap(b).order(ByteOrder.LITTLE_ENDIAN)
         for (at <- 0 until b.length by rec if codec.cond(r, at)) f(queries.pixel(codec.query(r, at)), Seq.tabulate(3)(ch => codec.colour(r, at, ch)))
-    }
-    passingColours((_, cs) => cs.foreach(c => if (fmt.isFinite(c)) maxAbs = math.max(maxAbs, math.abs(fmt.decode(c)))))
-    val scale = fa.scaleFor(maxAbs)
-    val sums = new FrameSums(fa, width * height, 3, scale)
-    passingColours((p, cs) => sums.add(p, cs))
-    CoprocFrame(Array.tabulate(3 * width * height)(i => fmt.decode(sums.resolve(i / 3)(i % 3))), scale, sums.faults)
+      }
+      passingColours((_, cs) => cs.foreach(c => if (fmt.isFinite(c)) maxAbs = math.max(maxAbs, math.abs(fmt.decode(c)))))
+      val scale = fa.scaleFor(maxAbs)
+      val sums = new FrameSums(fa, width * height, 3, scale)
+      passingColours((p, cs) => sums.add(p, cs))
+      CoprocFrame(Array.tabulate(3 * width * height)(i => fmt.decode(sums.resolve(i / 3)(i % 3))), scale, sums.faults)
     }
     Result(count, tsOps.get, passing, Array.tabulate(3 * width * height)(sum.toDouble), if (coproc) Some(coprocFrame) else None)
   }
