@@ -18,6 +18,7 @@
 #include "check.h"
 #include "dram.h"
 #include "expected.h"
+#include "fault.h"
 #include "image.h"
 #include "mapm_config.h"
 #include "options.h"
@@ -39,6 +40,7 @@ struct System {
   Dram& dram;
   WriteSlave& wr;
   Checker& check;
+  ResponseFault& fault;
   std::mt19937_64 host;
   std::uniform_real_distribution<double> coin{0.0, 1.0};
   uint64_t cycle = 0, lastActivity = 0;
@@ -51,8 +53,8 @@ struct System {
   uint32_t rData = 0;
   unsigned ctrlResp = 0;
 
-  System(const Options& o, int argc, char** argv, Dram& d, WriteSlave& w, Checker& c)
-      : opt(o), ctx(std::make_unique<VerilatedContext>()), dram(d), wr(w), check(c), host(o.seed * 0x9e3779b97f4a7c15ull + 1) {
+  System(const Options& o, int argc, char** argv, Dram& d, WriteSlave& w, Checker& c, ResponseFault& f)
+      : opt(o), ctx(std::make_unique<VerilatedContext>()), dram(d), wr(w), check(c), fault(f), host(o.seed * 0x9e3779b97f4a7c15ull + 1) {
     ctx->commandArgs(argc, argv);
     top = std::make_unique<Top>(ctx.get());
   }
@@ -76,12 +78,16 @@ struct System {
     const bool awR = !(opt.reqStall > 0 && coin(host) < opt.reqStall);
     const bool wRdy = wr.canTake() && !(opt.reqStall > 0 && coin(host) < opt.reqStall);
     setArReady(t, arR); setAwReady(t, awR); setWReady(t, wRdy);
-    uint64_t rid = 0; bool rlast = false;
-    const bool rv = dram.present(cycle, beat, &rid, &rlast);
-    setR(t, rv, beat, rid, rlast, 0);
-    uint64_t bid = 0;
-    const bool bv = wr.response(cycle, &bid);
-    setB(t, bv, bid, 0);
+    uint64_t rid = 0; bool rlast = false; unsigned rresp = 0;
+    bool rv = dram.present(cycle, beat, &rid, &rlast);
+    const bool faultBeat = fault.inject(cycle, dram, beat, MAPM_MEM_DATA_BYTES, &rid, &rlast);  // --fault: a beat not the DRAM's
+    rv = rv || faultBeat;
+    if (!faultBeat) fault.alterRead(cycle, rv, &rlast, &rresp);
+    setR(t, rv, beat, rid, rlast, rresp);
+    uint64_t bid = 0; unsigned bresp = 0;
+    bool bv = wr.response(cycle, &bid);
+    const bool faultB = fault.alterWrite(cycle, bv, wr.idle(), dram.outstanding() > 0, &bv, &bid, &bresp);
+    setB(t, bv, bid, bresp);
     setCtrlAw(t, awV && !awDone, ctrlAddr); setCtrlW(t, wV && !wDone, ctrlData, 0xf);
     setCtrlAr(t, arV && !arDone, ctrlAddr); setCtrlBReady(t, bR); setCtrlRReady(t, rR);
     half(0);
@@ -100,10 +106,10 @@ struct System {
     readOuts(t, outs);
     half(1);
     if (arFire && failure.empty()) failure = dram.request(cycle, aA, aI, aL);
-    if (rFire) dram.taken();
+    if (rFire && !faultBeat) dram.taken();
     if (awFire && failure.empty()) failure = wr.address(wA, wI, wL);
     if (wFire && failure.empty()) failure = wr.beat(wbeat, ws, wl, cycle);
-    if (bFire) wr.responseTaken();
+    if (bFire && !faultB) wr.responseTaken();
     awDone = awDone || cAw; wDone = wDone || cW; arDone = arDone || cAr; bDone = bDone || cB; rDone = rDone || cR;
     bool any = arFire || rFire || awFire || wFire || bFire || cAw || cW || cAr || cB || cR;
     for (int p = 0; p < MAPM_OUT_PORTS && failure.empty(); p++)
@@ -166,7 +172,9 @@ int main(int argc, char** argv) {
   auto fatal = [&](const std::string& m) { printf("FAIL seed=%llu: %s\n", (unsigned long long)opt.seed, m.c_str()); exit(1); };
   if (!(failure = img.load(opt.image, MAPM_EXP_WIDTH, MAPM_MAN_WIDTH, MAPM_SLOT_BYTES)).empty()) fatal(failure);
   if (!(failure = exp.load(opt.expected, img.queries)).empty()) fatal(failure);
-  if (opt.fault != Fault::None) fatal("--fault is for the bare MAPM's harness; the coprocessor's faults are its own tests");
+  if (!(failure = corruptImage(opt.fault, img)).empty()) fatal(failure);
+  if (opt.fault == Fault::QueryIndex)  // stream entry 0 names no query
+    for (int i = 0; i < 4; i++) img.bytes[img.streamBase + i] = (uint8_t)((img.queries + 1000u) >> (8 * i));
   const uint64_t pixels = (uint64_t)exp.width * exp.height;
   if (pixels > (1ull << MAPM_TILE_LOG2)) fatal("the frame's " + std::to_string(pixels) + " pixels exceed the coprocessor's pass of 2^" + std::to_string(MAPM_TILE_LOG2));
 
@@ -182,7 +190,8 @@ int main(int argc, char** argv) {
             opt.seed, opt.tailProb, opt.tailLatency);
   WriteSlave wr(mem, frameBase, frameEnd, MAPM_MEM_DATA_BYTES, opt.latency, opt.bandwidth);
   Checker check(exp, img, pixels);
-  System s(opt, argc, argv, dram, wr, check);
+  ResponseFault fault(opt.fault, opt.faultAt, MAPM_MEM_ID_BITS);
+  System s(opt, argc, argv, dram, wr, check, fault);
   sys = &s;
   s.reset();
   mapm_bus bus = {busRead, busWrite, opt.poll ? nullptr : busWaitIrq, nullptr};
@@ -215,6 +224,10 @@ int main(int argc, char** argv) {
     if (stopped) failure.clear();
   }
   if (failure.empty() && !stopped) failure = check.missing();
+  if (failure.empty() && !stopped && opt.fault != Fault::None) failure = "the injected fault was not flagged";
+  if (!failure.empty() && opt.fault != Fault::None)
+    failure += std::string(" (injected fault: ") + faultName(opt.fault) +
+               (fault.injected() ? " at cycle " + std::to_string(fault.cycle()) : std::string()) + ")";
   if (failure.empty() && !stopped && !wr.idle()) failure = "a write was still unanswered at the end of the pass";
   if (failure.empty() && !stopped && dram.outstanding()) failure = std::to_string(dram.outstanding()) + " reads outstanding at the end of the pass";
   s.top->final();

@@ -1,11 +1,18 @@
 // Faults the harness injects on request (`--fault KIND`, docs/harness.md "Injected faults"). Each
-// is one the hardware must flag on io_error (the first four) or the DRAM model must name in its
-// FAIL line (query-index: the SOQ read leaves the query array), never hang on or mishandle.
+// is one the hardware must flag (the bare MAPM on io_error, the coprocessor in ERROR_CAUSE) or the
+// bare MAPM's DRAM model must name in its FAIL line (query-index: the SOQ read leaves the query
+// array), never hang on or mishandle.
 //   node-axis           node 0's split axis set to 3 (no such axis)
 //   node-child          node 0 given a right child beyond the node count
-//   query-index         the first query sent with an index beyond the query array
+//   query-index         the first query sent (the coprocessor: stream entry 0) with an index beyond
+//                       the query array
 //   unknown-id          one response beat with an id no request is waiting on
 //   duplicate-response  the last beat of a finished request sent a second time
+// The coprocessor's AXI4 port alone (the bare MAPM's port has no response codes or write channel):
+//   early-last          RLAST on a beat that is not its burst's last
+//   read-error          one read beat answered SLVERR
+//   write-error         one write answered SLVERR
+//   stray-b             a write response while no write is outstanding
 // The response faults happen once, at the first cycle at or after `--fault-at` where they can.
 #pragma once
 #include <cstdint>
@@ -15,7 +22,10 @@
 #include "image.h"
 #include "mapm_formats.h"
 
-enum class Fault { None, NodeAxis, NodeChild, QueryIndex, UnknownId, DuplicateResponse };
+enum class Fault { None, NodeAxis, NodeChild, QueryIndex, UnknownId, DuplicateResponse, EarlyLast, ReadError, WriteError, StrayB };
+
+// Whether `f` needs the coprocessor's AXI4 port.
+inline bool axiOnly(Fault f) { return f == Fault::EarlyLast || f == Fault::ReadError || f == Fault::WriteError || f == Fault::StrayB; }
 
 inline const char* faultName(Fault f) {
   switch (f) {
@@ -24,13 +34,18 @@ inline const char* faultName(Fault f) {
     case Fault::QueryIndex: return "query-index";
     case Fault::UnknownId: return "unknown-id";
     case Fault::DuplicateResponse: return "duplicate-response";
+    case Fault::EarlyLast: return "early-last";
+    case Fault::ReadError: return "read-error";
+    case Fault::WriteError: return "write-error";
+    case Fault::StrayB: return "stray-b";
     default: return "none";
   }
 }
 
 // The fault called `s`; false for an unknown name.
 inline bool parseFault(const std::string& s, Fault* f) {
-  for (Fault k : {Fault::None, Fault::NodeAxis, Fault::NodeChild, Fault::QueryIndex, Fault::UnknownId, Fault::DuplicateResponse})
+  for (Fault k : {Fault::None, Fault::NodeAxis, Fault::NodeChild, Fault::QueryIndex, Fault::UnknownId, Fault::DuplicateResponse,
+                  Fault::EarlyLast, Fault::ReadError, Fault::WriteError, Fault::StrayB})
     if (s == faultName(k)) { *f = k; return true; }
   return false;
 }
@@ -69,9 +84,26 @@ class ResponseFault {
       return false;
     }
     *last = true;
-    done_ = true;
-    cycle_ = cycle;
+    mark(cycle);
     return true;
+  }
+
+  // The coprocessor's read faults, on the beat the DRAM offers this cycle (which stays the DRAM's:
+  // report it taken as usual): early-last marks a beat that is not its burst's last as last,
+  // read-error answers it SLVERR.
+  void alterRead(uint64_t cycle, bool offered, bool* last, unsigned* resp) {
+    if (done_ || cycle < at_ || !offered) return;
+    if (fault_ == Fault::EarlyLast && !*last) { *last = true; mark(cycle); }
+    else if (fault_ == Fault::ReadError) { *resp = 2; mark(cycle); }
+  }
+  // The coprocessor's write faults: write-error answers the offered B SLVERR; stray-b offers a B
+  // (id 0) while no write is outstanding and `busy` (a read is, so a pass is running). Returns true
+  // when the B is the fault's own, not the memory's.
+  bool alterWrite(uint64_t cycle, bool offered, bool writesIdle, bool busy, bool* valid, uint64_t* id, unsigned* resp) {
+    if (done_ || cycle < at_) return false;
+    if (fault_ == Fault::WriteError && offered) { *resp = 2; mark(cycle); return false; }
+    if (fault_ == Fault::StrayB && !offered && writesIdle && busy) { *valid = true; *id = 0; mark(cycle); return true; }
+    return false;
   }
   bool injected() const { return done_; }
   uint64_t cycle() const { return cycle_; }
@@ -82,4 +114,5 @@ class ResponseFault {
   int idBits_;
   bool done_ = false;
   uint64_t cycle_ = 0;
+  void mark(uint64_t cycle) { done_ = true; cycle_ = cycle; }
 };

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   auto fatal = [&](const std::string& m) { printf("FAIL seed=%llu: %s\n", (unsigned long long)opt.seed, m.c_str()); exit(1); };
   if (!(failure = img.load(opt.image, MAPM_EXP_WIDTH, MAPM_MAN_WIDTH, MAPM_SLOT_BYTES)).empty()) fatal(failure);
   if (!(failure = exp.load(opt.expected, img.queries)).empty()) fatal(failure);
+  if (axiOnly(opt.fault)) fatal(std::string("--fault ") + faultName(opt.fault) + " is the coprocessor's (its AXI4 port): run with --coproc");
   if (!(failure = corruptImage(opt.fault, img)).empty()) fatal(failure);
   if (exp.ew != img.ew || exp.mw != img.mw) fatal("the expected-SO file and the image use different formats");
   const uint64_t pixels = (uint64_t)exp.width * exp.height;

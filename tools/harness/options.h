@@ -27,7 +27,7 @@ struct Options {
   fprintf(stderr,
           "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--latency-max N] [--bandwidth B]\n"
           "  [--query-gap P] [--req-stall P] [--resp-gap P] [--tail-prob P --tail-latency N] [--max-cycles N] [--idle-cycles N]\n"
-          "  [--seed N] [--clock-ghz F] [--fault node-axis|node-child|query-index|unknown-id|duplicate-response [--fault-at N]]\n"
+          "  [--seed N] [--clock-ghz F] [--fault KIND [--fault-at N]] (fault.h)\n"
           "  [--wave FILE.fst --wave-start N --wave-end N] [--results FILE] [--measure-from N] [--frame-scale S] [--poll]\n",
           msg.c_str());
   exit(2);

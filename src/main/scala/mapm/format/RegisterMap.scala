@@ -110,7 +110,7 @@ object RegisterMap {
     ErrorCause(6, "LIMIT", "a count exceeds the hardware: NODE_COUNT, QUERY_COUNT or PIXEL_COUNT beyond HW_INDICES and HW_FRAME, or an array beyond the address width"),
     ErrorCause(7, "PIXEL", "a query's pixel lies outside PIXEL_BASE .. PIXEL_BASE + PIXEL_COUNT - 1"),
     ErrorCause(8, "QUERY", "a stream entry's query index is not below QUERY_COUNT"),
-    ErrorCause(9, "RECORD", "the MAPM refused a record: a malformed node or query record, an invalid tree-search input"),
+    ErrorCause(9, "RECORD", "the MAPM refused a record or a response: a malformed node or query record, an invalid tree-search input, a read beat its caches were not waiting for"),
     ErrorCause(10, "AXI_READ", "a read came back with an error response (SLVERR or DECERR)"),
     ErrorCause(11, "AXI_WRITE", "a write came back with an error response (SLVERR or DECERR)"),
     ErrorCause(12, "AXI_PROTOCOL", "the memory side broke an AXI4 rule (a response to nothing outstanding, a wrong RLAST, a payload changed or a valid dropped before its handshake)"))

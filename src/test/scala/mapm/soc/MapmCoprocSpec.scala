@@ -15,7 +15,9 @@ import org.scalatest.funsuite.AnyFunSuite
   * AXI4-Lite: the frame read back from the frame buffer must equal the model's ([[mapm.numerics.FrameAccum]])
   * bit for bit, every SO on the trace checked, under random memory latency (0-300 cycles),
   * reordered responses and stalled channels, by interrupt and by polling; each bad configuration
-  * ends the pass with its reason, never a hang. Cancels without Verilator. */
+  * and each fault injected from the memory side (a malformed record, a bad stream entry, AXI4
+  * responses that break a rule or answer an error) ends the pass with its reason, never a hang.
+  * Cancels without Verilator. */
 @Slow
 class MapmCoprocSpec extends AnyFunSuite {
   private def haveVerilator: Boolean = mapm.testutil.HostTools.onPath("verilator")
@@ -68,5 +70,29 @@ class MapmCoprocSpec extends AnyFunSuite {
       val r = run(small, coproc(1, 1, 1), Harness.RunOptions(badConfig = Some(bad), maxCycles = 200000), bad)
       assert(!r.outcome.passed && !r.outcome.stopped, bad)
       assert(r.outcome.verdict.contains(reason), s"$bad: ${r.outcome.verdict}")
+    }
+
+  /** Each fault the harness injects, the ERROR_CAUSE the pass must end with, and the one other cause
+    * it may also show: a read beat that breaks a rule may reach the MAPM's caches before the pass
+    * ends, and their miss tables refuse it too (RECORD). */
+  private val faults = Seq("node-axis" -> "RECORD", "node-child" -> "RECORD", "query-index" -> "QUERY",
+    "unknown-id" -> "AXI_PROTOCOL", "duplicate-response" -> "AXI_PROTOCOL", "early-last" -> "AXI_PROTOCOL",
+    "read-error" -> "AXI_READ", "write-error" -> "AXI_WRITE", "stray-b" -> "AXI_PROTOCOL")
+  private def alsoAllowed(cause: String): Set[String] = if (cause == "AXI_PROTOCOL") Set("RECORD") else Set.empty
+
+  test("every fault the harness injects is one this spec checks") {
+    assert(faults.map(_._1).sorted == (Harness.Faults ++ Harness.AxiFaults).sorted)
+  }
+
+  for ((fault, cause) <- faults)
+    test(s"an injected $fault ends the pass with $cause and its reason, not a hang") {
+      assume(haveVerilator, "verilator is not on PATH")
+      val r = run(small, coproc(1, 1, 1), Harness.RunOptions(latency = 5, latencyMax = 80, seed = 7, fault = Some(fault), faultAt = 200,
+        maxCycles = 400000), s"fault-$fault")
+      val v = r.outcome.verdict
+      assert(!r.outcome.passed && !r.outcome.stopped, s"$fault: $v")
+      assert(v.contains("driver: ") && v.contains(RegisterMap.cause(cause).reason) && v.contains(s"(injected fault: $fault"), s"$fault: $v")
+      for (other <- RegisterMap.causes if other.name != cause && !alsoAllowed(cause)(other.name))
+        assert(!v.contains(other.reason), s"$fault: ${other.name} too: $v")
     }
 }
