@@ -58,6 +58,7 @@ int mapm_configure(const mapm_bus* b, const mapm_info* i, const mapm_frame* f) {
   wr(b, MAPM_REG_PIXEL_BASE, f->pixel_base);
   wr(b, MAPM_REG_PIXEL_COUNT, f->pixel_count);
   wr(b, MAPM_REG_FRAME_SCALE, (uint32_t)f->frame_scale);
+  wr(b, MAPM_REG_QUERY_ORDER, f->use_stream ? MAPM_QUERY_ORDER_STREAM_MASK : 0u);
   return MAPM_OK;
 }
 

@@ -37,13 +37,16 @@ typedef struct mapm_info {
 
 /* One frame pass: where the arrays lie (docs/memory-layout.md), their counts, the pixels it
  * covers and the accumulator's scale. exp_width, man_width and slot_bytes state the format the
- * arrays were written in; the driver refuses a pass whose format is not the hardware's. */
+ * arrays were written in; the driver refuses a pass whose format is not the hardware's. With
+ * use_stream nonzero the pass runs the queries in the order of the stream at stream_base, else
+ * the query records in array order (stream_base unused). */
 typedef struct mapm_frame {
   unsigned exp_width, man_width, slot_bytes;
   uint64_t node_base, photon_base, query_base, stream_base, frame_base;
   uint64_t radius;
   uint32_t node_count, query_count, pixel_base, pixel_count;
   int32_t frame_scale;
+  int use_stream;
 } mapm_frame;
 
 /* Results of the calls. */

@@ -204,6 +204,10 @@ int main(int argc, char** argv) {
     f.node_base = IMAGE_BYTES; f.photon_base = img.photonBase; f.query_base = img.queryBase; f.stream_base = img.streamBase;
     f.frame_base = frameBase; f.radius = img.h; f.node_count = img.nodes; f.query_count = img.queries;
     f.pixel_base = 0; f.pixel_count = (uint32_t)pixels; f.frame_scale = (int32_t)opt.frameScale;
+    // The records in the order to run them need no stream; --read-stream reads it all the same.
+    bool identity = true;
+    for (uint32_t k = 0; k < img.queries && identity; k++) identity = img.streamQuery(k) == k;
+    f.use_stream = opt.readStream || !identity;
     static_assert(MAPM_COUNTER_COUNT == COUNTER_COUNT, "the register map's counters are the top's");
     // --bad-config: one thing wrong, which the driver or the pass's check must refuse with its reason.
     const std::string& bad = opt.badConfig;

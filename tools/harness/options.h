@@ -19,6 +19,7 @@ struct Options {
   uint64_t measureFrom = UINT64_MAX;  // --measure-from: callgrind counts from this cycle to the end of the run
   int64_t frameScale = -40;           // --frame-scale: FRAME_SCALE of the coprocessor's pass (docs/coprocessor.md)
   bool poll = false;                  // --poll: the coprocessor's driver polls STATUS instead of waiting for the interrupt
+  bool readStream = false;            // --read-stream: the coprocessor reads the query stream even where it is the identity
   std::string badConfig;              // --bad-config KIND: the coprocessor's pass configured wrong on purpose (coproc.cpp)
   Fault fault = Fault::None;
 };
@@ -28,7 +29,7 @@ struct Options {
           "mapm-harness: %s\nusage: harness --image FILE --expected FILE [--out DIR] [--latency N] [--latency-max N] [--bandwidth B]\n"
           "  [--query-gap P] [--req-stall P] [--resp-gap P] [--tail-prob P --tail-latency N] [--max-cycles N] [--idle-cycles N]\n"
           "  [--seed N] [--clock-ghz F] [--fault KIND [--fault-at N]] (fault.h)\n"
-          "  [--wave FILE.fst --wave-start N --wave-end N] [--results FILE] [--measure-from N] [--frame-scale S] [--poll]\n",
+          "  [--wave FILE.fst --wave-start N --wave-end N] [--results FILE] [--measure-from N] [--frame-scale S] [--poll] [--read-stream]\n",
           msg.c_str());
   exit(2);
 }
@@ -36,7 +37,7 @@ struct Options {
 inline Options parseOptions(int argc, char** argv) {
   enum { IMAGE = 1, EXPECTED, OUT, LATENCY, LATENCY_MAX, BANDWIDTH, QUERY_GAP, REQ_STALL, RESP_GAP, MAX_CYCLES, IDLE_CYCLES,
          SEED, CLOCK_GHZ, WAVE, WAVE_START, WAVE_END, TAIL_PROB, TAIL_LATENCY, FAULT, FAULT_AT, RESULTS, MEASURE_FROM,
-         FRAME_SCALE, POLL, BAD_CONFIG };
+         FRAME_SCALE, POLL, BAD_CONFIG, READ_STREAM };
   static const option longOptions[] = {
       {"image", required_argument, nullptr, IMAGE},           {"expected", required_argument, nullptr, EXPECTED},
       {"out", required_argument, nullptr, OUT},               {"latency", required_argument, nullptr, LATENCY},
@@ -50,7 +51,7 @@ inline Options parseOptions(int argc, char** argv) {
       {"fault", required_argument, nullptr, FAULT},           {"fault-at", required_argument, nullptr, FAULT_AT},
       {"results", required_argument, nullptr, RESULTS},       {"measure-from", required_argument, nullptr, MEASURE_FROM},
       {"frame-scale", required_argument, nullptr, FRAME_SCALE}, {"poll", no_argument, nullptr, POLL},
-      {"bad-config", required_argument, nullptr, BAD_CONFIG},
+      {"bad-config", required_argument, nullptr, BAD_CONFIG}, {"read-stream", no_argument, nullptr, READ_STREAM},
       {nullptr, 0, nullptr, 0}};
   Options o;
   opterr = 0;  // the errors below say what went wrong
@@ -89,6 +90,7 @@ inline Options parseOptions(int argc, char** argv) {
       case MEASURE_FROM: o.measureFrom = u(); break;
       case FRAME_SCALE: { long long r = strtoll(v.c_str(), &end, 10); if (*end || v.empty() || r < -32768 || r > 32767) usage(name + ": not a scale in -32768..32767: " + v); o.frameScale = r; break; }
       case POLL: o.poll = true; break;
+      case READ_STREAM: o.readStream = true; break;
       case BAD_CONFIG: o.badConfig = v; break;
     }
   }

@@ -28,7 +28,8 @@ final case class HwOptions(
     @arg(doc = "run the MAPM as its coprocessor (docs/coprocessor.md): it reads its query stream, adds every colour into its pixel and writes the frame buffer, driven by the C driver over AXI4-Lite") coproc: mainargs.Flag = mainargs.Flag(),
     @arg(name = "frame-banks", doc = "with --coproc: the frame accumulator's banks (a power of two; default one per SOA)") frameBanks: Option[Int] = None,
     @arg(name = "result-fifo", doc = "with --coproc: result FIFO entries per SOA (default the lane's RS entries + its SOA's latency + 32)") resultFifo: Option[Int] = None,
-    @arg(name = "stream-lines", doc = "with --coproc: 64-byte lines of the query stream read ahead (default 4)") streamLines: Option[Int] = None) {
+    @arg(name = "stream-lines", doc = "with --coproc: 64-byte lines of the query stream read ahead (default 4)") streamLines: Option[Int] = None,
+    @arg(name = "read-stream", doc = "with --coproc: read the query stream although the host wrote the query records in the order to run, so that the stream is the identity (docs/coprocessor.md, QUERY_ORDER)") readStream: mainargs.Flag = mainargs.Flag()) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
     sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value, sopL2Banks, tsL2Banks, hierarchy, coproc.value, frameBanks, resultFifo, streamLines)

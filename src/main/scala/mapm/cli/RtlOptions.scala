@@ -48,7 +48,7 @@ final case class RtlOptions(
   /** The harness's options for each run, with an FST waveform of cycles [waveStart, waveEnd] when `wave` is given. */
   def harness(wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue): Harness.RunOptions =
     Harness.RunOptions(latency, bandwidth, seed, maxCycles, clockGhz, wave, waveStart, waveEnd, latencyMax, queryGap, reqStall,
-      respGap, simThreads, tailProb, tailLatency)
+      respGap, simThreads, tailProb, tailLatency, readStream = hw.readStream.value)
 
   /** These options as the value a run is made from, the fidelity `default` unless `--fidelity` is
     * given and the harness's options `harness` (a waveform for `render`). */

@@ -83,14 +83,16 @@ object RegisterMap {
     Register("NODE_BASE", 0x040, RW, "byte address of KD node record 0", bits = 64),
     Register("PHOTON_BASE", 0x048, RW, "byte address of photon record 0", bits = 64),
     Register("QUERY_BASE", 0x050, RW, "byte address of query record 0", bits = 64),
-    Register("STREAM_BASE", 0x058, RW, "byte address of query-stream entry 0", bits = 64),
+    Register("STREAM_BASE", 0x058, RW, "byte address of query-stream entry 0 (with QUERY_ORDER.stream)", bits = 64),
     Register("FRAME_BASE", 0x060, RW, "byte address of pixel 0 of the frame buffer", bits = 64),
     Register("RADIUS", 0x068, RW, "kernel radius h (format bits)", bits = 64),
     Register("NODE_COUNT", 0x070, RW, "KD nodes (= photons); 0 is an empty tree"),
-    Register("QUERY_COUNT", 0x074, RW, "query records, and query-stream entries to run"),
+    Register("QUERY_COUNT", 0x074, RW, "query records to run (and query-stream entries, with QUERY_ORDER.stream)"),
     Register("PIXEL_BASE", 0x078, RW, "the first pixel of this pass: every query's pixel lies in PIXEL_BASE .. PIXEL_BASE + PIXEL_COUNT - 1"),
     Register("PIXEL_COUNT", 0x07c, RW, "pixels of this pass, written at the end of the pass"),
-    Register("FRAME_SCALE", 0x080, RW, "the frame accumulator's scale: a sum's least significant bit weighs 2^FRAME_SCALE (two's complement)")
+    Register("FRAME_SCALE", 0x080, RW, "the frame accumulator's scale: a sum's least significant bit weighs 2^FRAME_SCALE (two's complement)"),
+    Register("QUERY_ORDER", 0x084, RW, "where the order of the queries comes from", Seq(f("stream", 0, 1,
+      "1: run the QUERY_COUNT entries of the query stream at STREAM_BASE, in stream order; 0: run query records 0 .. QUERY_COUNT - 1 in array order, reading no stream (STREAM_BASE unused)")))
   ) ++ CounterSet.Names.zipWithIndex.map { case (n, k) =>
     Register("CNT_" + n.toUpperCase, CounterBase + 8 * k, RO, s"counter $n (${CounterSet.Units(n)}); reading the low word latches the high word", bits = 64)
   }
@@ -105,7 +107,7 @@ object RegisterMap {
     * then the configuration's and the system's. */
   val causes: Seq[ErrorCause] = FrameAccum.Faults.map(x => ErrorCause(x.bit, x.toString.toUpperCase, x.reason)) ++ Seq(
     ErrorCause(3, "ALIGN", "an array base is not a multiple of 64 bytes"),
-    ErrorCause(4, "OVERLAP", "two of the node, photon, query, stream and frame arrays overlap"),
+    ErrorCause(4, "OVERLAP", "two of the node, photon, query, stream (if read) and frame arrays overlap"),
     ErrorCause(5, "EMPTY", "QUERY_COUNT or PIXEL_COUNT is zero"),
     ErrorCause(6, "LIMIT", "a count exceeds the hardware: NODE_COUNT, QUERY_COUNT or PIXEL_COUNT beyond HW_INDICES and HW_FRAME, or an array beyond the address width"),
     ErrorCause(7, "PIXEL", "a query's pixel lies outside PIXEL_BASE .. PIXEL_BASE + PIXEL_COUNT - 1"),

@@ -107,6 +107,13 @@ final class QuerySet private (
 ) {
   def size: Int = pixel.length
   private val codec = new FormatBits(format)
+
+  /** The same queries in `order` (a permutation of their indices): query k of the result is query
+    * `order(k)` of this set. */
+  def permuted(order: Array[Int]): QuerySet = {
+    MapmError.check(order.length == size && order.sorted.sameElements(0 until size), "query order must be a permutation of the queries")
+    new QuerySet(format, order.map(qx), order.map(qy), order.map(qz), contribution.map(c => order.map(c)), order.map(pixel))
+  }
   val x: Array[Double] = qx.map(codec.toDouble)
   val y: Array[Double] = qy.map(codec.toDouble)
   val z: Array[Double] = qz.map(codec.toDouble)

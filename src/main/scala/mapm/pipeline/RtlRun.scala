@@ -68,7 +68,10 @@ object RtlRun {
     * `outDir/<scene>-rtl/` (`<scene>-conv-rtl/` for the conventional arithmetic, whose name
     * carries `-conv` in every output file). With `prebuild` (trace, model threads) every
     * configuration is emitted and built on a thread of its own while the model runs, and
-    * [[runConfig]] takes that build. The memory image streams the queries in `queryOrder`. */
+    * [[runConfig]] takes that build. The host writes the query records in `queryOrder`, the order it
+    * runs them in: query k of the image, of its stream (the identity) and of the expected SOs is
+    * query `queryOrder.of(...)(k)` of the frame, and the coprocessor runs the records in array order
+    * without reading a stream (docs/coprocessor.md, QUERY_ORDER). */
   def setup(scene: String, format: Option[FloatFormat], g: Int, configs: Seq[(Int, Int, Int)], outDir: String, threads: Int,
             layout: SlotLayout = SlotLayout.Packed, arith: Arith = Arith.Online, fidelity: Fidelity = Fidelity.Full,
             tuning: Tuning = Tuning(), prebuild: Option[(Boolean, Int)] = None, log: String => Unit = _ => (),
@@ -83,10 +86,11 @@ object RtlRun {
     Files.createDirectories(work)
     val t0 = System.nanoTime()
     val image = work.resolve("image.bin")
-    mapm.sim.FrameImage.of(frame.map, frame.querySet, layout, Some(queryOrder.of(frame.querySet))).write(image)
+    val queries = frame.querySet.permuted(queryOrder.of(frame.querySet))
+    mapm.sim.FrameImage.of(frame.map, queries, layout).write(image)
     val t1 = System.nanoTime()
     val expected = work.resolve("expected.bin")
-    val model = ExpectedSo.write(frame.map, frame.querySet, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith,
+    val model = ExpectedSo.write(frame.map, queries, g, frame.width, frame.height, expected, threads, Some("model SOs"), arith,
       coproc = tuning.coproc)
     Setup(params, Prepared(name, config, frame, layout, image, expected, model, work,
       frame.times + ("memory image" -> (t1 - t0) / 1e9) + ("model SOs" -> secs(t1)), arith, builds))

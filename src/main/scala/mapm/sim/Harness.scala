@@ -121,13 +121,15 @@ object Harness {
     * per-cycle probabilities of a gap in the query stream, of refusing a memory request and of
     * holding back a response beat. `simThreads` > 1 runs a multithreaded model. `fault` injects one
     * of [[Faults]] (from cycle `faultAt`): the run must then FAIL, naming it. `results` writes one line
-    * `cycle port q photon` per result beat to that file. */
+    * `cycle port q photon` per result beat to that file. The coprocessor's harness takes the pass's
+    * `frameScale`, waits by polling with `poll`, configures a bad pass with `badConfig` and reads the
+    * query stream even where it is the identity with `readStream`. */
   final case class RunOptions(latency: Int = 100, bandwidth: Double = 14.0, seed: Long = 1, maxCycles: Long = 0,
                               clockGhz: Double = 1.5, wave: Option[Path] = None, waveStart: Long = 0, waveEnd: Long = Long.MaxValue,
                               latencyMax: Int = 0, queryGap: Double = 0, reqStall: Double = 0, respGap: Double = 0,
                               simThreads: Int = 1, tailProb: Double = 0, tailLatency: Int = 0, fault: Option[String] = None,
                               faultAt: Long = 0, results: Option[Path] = None, frameScale: Option[Int] = None, poll: Boolean = false,
-                              badConfig: Option[String] = None) {
+                              badConfig: Option[String] = None, readStream: Boolean = false) {
     MapmError.check(simThreads >= 1 && simThreads <= 64, s"--sim-threads must be 1..64, got $simThreads")
     MapmError.check(latency >= 0, s"--latency must be at least 0, got $latency")
     MapmError.check(seed >= 0, s"--seed must be 0..${Long.MaxValue}, got $seed")
@@ -153,6 +155,7 @@ object Harness {
       wave.toSeq.flatMap(w => Seq("--wave", w.toString, "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString)) ++
       results.toSeq.flatMap(r => Seq("--results", r.toString)) ++
       frameScale.toSeq.flatMap(s => Seq("--frame-scale", s.toString)) ++ (if (poll) Seq("--poll") else Seq.empty) ++
+      (if (readStream) Seq("--read-stream") else Seq.empty) ++
       badConfig.toSeq.flatMap(b => Seq("--bad-config", b))
   }
 

@@ -90,6 +90,7 @@ class MapmCoproc(val p: MapmParams) extends Module {
   writer.io.b <> io.axi.b
 
   reader.io.streamBase := cfg.streamBase
+  reader.io.useStream := cfg.useStream
   reader.io.queryCount := cfg.queryCount
   acc.io.scale := cfg.frameScale
   acc.io.pixelBase := cfg.pixelBase

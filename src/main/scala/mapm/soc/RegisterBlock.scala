@@ -18,6 +18,8 @@ class PassConfig extends Bundle {
   val pixelBase = UInt(32.W)
   val pixelCount = UInt(32.W)
   val frameScale = SInt(32.W)
+  /** QUERY_ORDER.stream: the queries' order from the stream array, else the query array's. */
+  val useStream = Bool()
 }
 
 /** The coprocessor's AXI4-Lite register port, decoded from [[RegisterMap]] (the one definition the
@@ -63,7 +65,7 @@ class RegisterBlock(ident: Map[String, BigInt]) extends Module {
     Map("NODE_BASE" -> w64(cfg.nodeBase), "PHOTON_BASE" -> w64(cfg.photonBase), "QUERY_BASE" -> w64(cfg.queryBase),
       "STREAM_BASE" -> w64(cfg.streamBase), "FRAME_BASE" -> w64(cfg.frameBase), "RADIUS" -> w64(cfg.radius),
       "NODE_COUNT" -> Seq(cfg.nodeCount), "QUERY_COUNT" -> Seq(cfg.queryCount), "PIXEL_BASE" -> Seq(cfg.pixelBase),
-      "PIXEL_COUNT" -> Seq(cfg.pixelCount), "FRAME_SCALE" -> Seq(cfg.frameScale.asUInt))
+      "PIXEL_COUNT" -> Seq(cfg.pixelCount), "FRAME_SCALE" -> Seq(cfg.frameScale.asUInt), "QUERY_ORDER" -> Seq(Cat(0.U(31.W), cfg.useStream)))
   }
   private def setWord(name: String, word: Int, v: UInt): Unit = {
     def put64(r: UInt): UInt = if (word == 0) Cat(r(63, 32), v) else Cat(v, r(31, 0))
@@ -79,6 +81,7 @@ class RegisterBlock(ident: Map[String, BigInt]) extends Module {
       case "PIXEL_BASE" => cfg.pixelBase := v
       case "PIXEL_COUNT" => cfg.pixelCount := v
       case "FRAME_SCALE" => cfg.frameScale := v.asSInt
+      case "QUERY_ORDER" => cfg.useStream := v(RegisterMap("QUERY_ORDER").field("stream").lsb)
     }
   }
   /** A read-only register's value: identification fields packed from `ident`, or live state. */

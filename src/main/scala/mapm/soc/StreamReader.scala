@@ -9,6 +9,8 @@ import mapm.util.Index
 
 /** Reads the query stream (docs/memory-layout.md: 4-byte query indices from `streamBase`) and
   * hands its entries to the MAPM in order, one a cycle: the coprocessor's tree-search instructions.
+  * Without `useStream` (QUERY_ORDER.stream 0, taken at `start`) it reads nothing and hands over
+  * the indices 0 .. `queryCount` - 1 in order: the host wrote the records in the order to run.
   *
   * It reads whole 64-byte lines (16 entries; the stream array is padded to a line), up to
   * `streamLines` ahead, each into a line buffer of its own under the buffer's id, so lines may come
@@ -31,6 +33,7 @@ class StreamReader(p: MapmParams) extends Module {
 
   val io = IO(new Bundle {
     val start = Input(Bool())
+    val useStream = Input(Bool())
     val streamBase = Input(UInt(p.memory.addressBits.W))
     val queryCount = Input(UInt(32.W))
     val mem = new MemPort(memParams)
@@ -40,6 +43,7 @@ class StreamReader(p: MapmParams) extends Module {
   })
 
   private val running = RegInit(false.B)
+  private val fromStream = RegInit(false.B)
   private val count = RegInit(0.U(32.W))
   private val totalLines = (count + (perLine - 1).U) >> log2Ceil(perLine)
   private val issued = RegInit(0.U(32.W))  // lines asked for
@@ -54,7 +58,7 @@ class StreamReader(p: MapmParams) extends Module {
   private def slotOf(line: UInt): UInt = if (lines == 1) 0.U else if (isPow2(lines)) line(log2Ceil(lines) - 1, 0) else line % lines.U
 
   // Requests: the next line, while it is in the stream and its buffer is free (lines ahead of the head).
-  io.mem.req.valid := running && issued < totalLines && issued - head < lines.U
+  io.mem.req.valid := running && fromStream && issued < totalLines && issued - head < lines.U
   io.mem.req.bits.addr := io.streamBase + (issued << log2Ceil(lineBytes))
   io.mem.req.bits.id := slotOf(issued)
   io.mem.req.bits.len := (beatsPerLine - 1).U
@@ -72,8 +76,8 @@ class StreamReader(p: MapmParams) extends Module {
   private val hs = slotOf(head)
   private val beat = entry >> log2Ceil(perBeat)
   private val word = if (perBeat == 1) 0.U else entry(log2Ceil(perBeat) - 1, 0)
-  private val have = running && taken < count && arrived(hs)(beat)
-  private val q = (buf(hs)(beat) >> (word << 5))(31, 0)
+  private val have = running && taken < count && (arrived(hs)(beat) || !fromStream)
+  private val q = Mux(fromStream, (buf(hs)(beat) >> (word << 5))(31, 0), taken)
   private val fits = q < count
   io.out.valid := have && fits
   io.out.bits.q := q(p.indices.queryBits - 1, 0)
@@ -91,6 +95,7 @@ class StreamReader(p: MapmParams) extends Module {
 
   when(io.start) {
     running := true.B
+    fromStream := io.useStream
     count := io.queryCount
     issued := 0.U
     head := 0.U

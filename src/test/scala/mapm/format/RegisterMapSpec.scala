@@ -91,7 +91,7 @@ class RegisterMapSpec extends AnyFunSuite {
          |  printf("format %d\\n", mapm_configure(&bus, &info, &f));
          |  f.exp_width = 8; f.man_width = 23; f.slot_bytes = 4;
          |  f.node_base = 64; f.photon_base = 0x123456789ull; f.query_base = 0x40000; f.stream_base = 0x50000; f.frame_base = 0x60000;
-         |  f.radius = 0x3f800000u; f.node_count = 2000; f.query_count = 123575; f.pixel_base = 0; f.pixel_count = 4500; f.frame_scale = -38;
+         |  f.radius = 0x3f800000u; f.node_count = 2000; f.query_count = 123575; f.pixel_base = 0; f.pixel_count = 4500; f.frame_scale = -38; f.use_stream = 1;
          |  printf("configure %d\\n", mapm_configure(&bus, &info, &f));
          |  printf("start %d\\n", mapm_start(&bus, 0));
          |  regs[MAPM_REG_STATUS / 4] = MAPM_STATUS_DONE_MASK;
@@ -129,7 +129,7 @@ class RegisterMapSpec extends AnyFunSuite {
       val writes = out.filter(_.startsWith("w ")).map(_.split(' ')).map(a => a(1).toInt -> a(2).toLong)
       val want = Seq("NODE_BASE" -> 64L, "PHOTON_BASE" -> 0x123456789L, "QUERY_BASE" -> 0x40000L, "STREAM_BASE" -> 0x50000L,
         "FRAME_BASE" -> 0x60000L, "RADIUS" -> 0x3f800000L).flatMap { case (n, v) => Seq(reg(n) -> (v & 0xffffffffL), reg(n) + 4 -> (v >>> 32)) } ++
-        Seq("NODE_COUNT" -> 2000L, "QUERY_COUNT" -> 123575L, "PIXEL_BASE" -> 0L, "PIXEL_COUNT" -> 4500L, "FRAME_SCALE" -> ((-38L) & 0xffffffffL)).map { case (n, v) => reg(n) -> v }
+        Seq("NODE_COUNT" -> 2000L, "QUERY_COUNT" -> 123575L, "PIXEL_BASE" -> 0L, "PIXEL_COUNT" -> 4500L, "FRAME_SCALE" -> ((-38L) & 0xffffffffL), "QUERY_ORDER" -> 1L).map { case (n, v) => reg(n) -> v }
       assert(writes.take(want.size) == want)
       assert(writes.drop(want.size) == Seq(reg("IRQ_STATUS") -> 1L, reg("IRQ_ENABLE") -> 0L, reg("CONTROL") -> 1L))
     }

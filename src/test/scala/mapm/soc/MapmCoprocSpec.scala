@@ -42,10 +42,12 @@ class MapmCoprocSpec extends AnyFunSuite {
     RtlRun.runConfig(prep, p, opts, dir.resolve(s"${prep.name}-${p.name}-$tag"), _ => (), progress = false)
 
   for ((t, s, a) <- Seq((1, 1, 1), (2, 2, 2), (3, 2, 3)))
-    test(s"$t/$s/$a: the frame buffer bit-equal to the model's, every SO exact, under random memory timing, by interrupt and by polling") {
+    test(s"$t/$s/$a: the frame buffer bit-equal to the model's, every SO exact, under random memory timing, by interrupt and by polling, with and without the stream") {
       assume(haveVerilator, "verilator is not on PATH")
       val p = coproc(t, s, a)
-      for ((prep, opts, tag) <- Seq((small, stress.copy(seed = 1), "irq"), (small, stress.copy(seed = 2, poll = true), "poll"), (large, stress.copy(seed = 3), "large"))) {
+      val runs = Seq((small, stress.copy(seed = 1), "irq"), (small, stress.copy(seed = 2, poll = true, readStream = true), "poll, stream"),
+        (large, stress.copy(seed = 3), "large"))
+      for ((prep, opts, tag) <- runs) {
         val r = run(prep, p, opts, tag)
         assert(r.passed, s"$tag: ${r.failure}")
         val st = r.outcome.stats.get
