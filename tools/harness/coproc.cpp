@@ -24,6 +24,7 @@
 #include "options.h"
 #include "output.h"
 #include "stats.h"
+#include "wave.h"
 extern "C" {
 #include "mapm_driver.h"
 }
@@ -37,6 +38,8 @@ struct System {
   const Options& opt;
   std::unique_ptr<VerilatedContext> ctx;
   std::unique_ptr<Top> top;
+  std::unique_ptr<Waveform<Top>> wave;
+  bool inReset = true;
   Dram& dram;
   WriteSlave& wr;
   Checker& check;
@@ -57,9 +60,10 @@ struct System {
       : opt(o), ctx(std::make_unique<VerilatedContext>()), dram(d), wr(w), check(c), fault(f), host(o.seed * 0x9e3779b97f4a7c15ull + 1) {
     ctx->commandArgs(argc, argv);
     top = std::make_unique<Top>(ctx.get());
+    wave = std::make_unique<Waveform<Top>>(ctx.get(), top.get(), o);
   }
 
-  void half(int clk) { top->clock = clk; top->eval(); ctx->timeInc(1); }
+  void half(int clk) { top->clock = clk; top->eval(); ctx->timeInc(1); wave->dump(cycle, inReset); }
 
   void reset() {
     Top* t = top.get();
@@ -69,6 +73,7 @@ struct System {
     t->reset = 1;
     for (int i = 0; i < 10; i++) { half(0); half(1); }
     t->reset = 0;
+    inReset = false;
   }
 
   // One clock cycle: the memory's and the register master's inputs, the outputs sampled, the edge.
@@ -176,6 +181,9 @@ int main(int argc, char** argv) {
   if (opt.fault == Fault::QueryIndex)  // stream entry 0 names no query
     for (int i = 0; i < 4; i++) img.bytes[img.streamBase + i] = (uint8_t)((img.queries + 1000u) >> (8 * i));
   const uint64_t pixels = (uint64_t)exp.width * exp.height;
+#if !VM_TRACE
+  if (!opt.wave.empty()) fatal("--wave needs a harness built with --trace-fst");
+#endif
   if (pixels > (1ull << MAPM_TILE_LOG2)) fatal("the frame's " + std::to_string(pixels) + " pixels exceed the coprocessor's pass of 2^" + std::to_string(MAPM_TILE_LOG2));
 
   // The memory: the image, then the frame buffer at the next 4 KiB boundary (filled with 0xa5 so
@@ -234,6 +242,7 @@ int main(int argc, char** argv) {
                (fault.injected() ? " at cycle " + std::to_string(fault.cycle()) : std::string()) + ")";
   if (failure.empty() && !stopped && !wr.idle()) failure = "a write was still unanswered at the end of the pass";
   if (failure.empty() && !stopped && dram.outstanding()) failure = std::to_string(dram.outstanding()) + " reads outstanding at the end of the pass";
+  s.wave->close();
   s.top->final();
 
   // The frame: from the frame buffer (full fidelity); the SOAs' timing model computes no colour.

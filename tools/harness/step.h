@@ -7,12 +7,10 @@
 #include <string>
 
 #include "verilated.h"
-#if VM_TRACE
-#include "verilated_fst_c.h"
-#endif
 #include "image.h"
 #include "mapm_config.h"
 #include "options.h"
+#include "wave.h"
 
 // The inputs of one cycle.
 struct Drive {
@@ -36,17 +34,10 @@ class Bench {
  public:
   // The top, with an FST waveform of cycles opt.waveStart..opt.waveEnd when opt.wave names one
   // (traced builds only; main() refuses --wave otherwise).
-  Bench(int argc, char** argv, const Options& opt) : ctx_(std::make_unique<VerilatedContext>()), opt_(opt) {
+  Bench(int argc, char** argv, const Options& opt) : ctx_(std::make_unique<VerilatedContext>()) {
     ctx_->commandArgs(argc, argv);
     top_ = std::make_unique<Top>(ctx_.get());
-#if VM_TRACE
-    if (!opt.wave.empty()) {
-      ctx_->traceEverOn(true);
-      fst_ = std::make_unique<VerilatedFstC>();
-      top_->trace(fst_.get(), 99);
-      fst_->open(opt.wave.c_str());
-    }
-#endif
+    wave_ = std::make_unique<Waveform<Top>>(ctx_.get(), top_.get(), opt);
   }
 
   // Sets io_cfg from the image, idles the inputs and holds reset for 10 cycles.
@@ -91,9 +82,7 @@ class Bench {
 
   // Closes the waveform and finishes the model.
   void finish() {
-#if VM_TRACE
-    if (fst_) fst_->close();
-#endif
+    wave_->close();
     top_->final();
   }
 
@@ -102,17 +91,12 @@ class Bench {
     top_->clock = clk;
     top_->eval();
     ctx_->timeInc(1);
-#if VM_TRACE
-    if (fst_ && !inReset_ && cycle_ >= opt_.waveStart && cycle_ <= opt_.waveEnd) fst_->dump(ctx_->time());
-#endif
+    wave_->dump(cycle_, inReset_);
   }
 
   std::unique_ptr<VerilatedContext> ctx_;
   std::unique_ptr<Top> top_;
-#if VM_TRACE
-  std::unique_ptr<VerilatedFstC> fst_;
-#endif
-  const Options& opt_;
+  std::unique_ptr<Waveform<Top>> wave_;
   uint64_t cycle_ = 0;
   bool inReset_ = true;
 };

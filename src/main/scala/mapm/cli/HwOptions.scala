@@ -25,7 +25,7 @@ final case class HwOptions(
     @arg(name = "sop-l2-banks", doc = "SOP L2 banks: 1 is one shared cache with one port (Table 4.2's); 2, 4 ... 64 split it by line address, each bank with its own port, behind a registered network") sopL2Banks: Option[Int] = None,
     @arg(name = "ts-l2-banks", doc = "TS L2 banks, as --sop-l2-banks") tsL2Banks: Option[Int] = None,
     @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag(),
-    @arg(doc = "run the MAPM as its coprocessor (docs/coprocessor.md): it reads its query stream, adds every colour into its pixel and writes the frame buffer, driven by the C driver over AXI4-Lite") coproc: mainargs.Flag = mainargs.Flag(),
+    @arg(doc = "run the MAPM as its coprocessor (docs/coprocessor.md): it reads its queries, adds every colour into its pixel and writes the frame buffer, driven by the C driver over AXI4-Lite (render's default: see its --bare)") coproc: mainargs.Flag = mainargs.Flag(),
     @arg(name = "frame-banks", doc = "with --coproc: the frame accumulator's banks (a power of two; default one per SOA)") frameBanks: Option[Int] = None,
     @arg(name = "result-fifo", doc = "with --coproc: result FIFO entries per SOA (default the lane's RS entries + its SOA's latency + 32)") resultFifo: Option[Int] = None,
     @arg(name = "stream-lines", doc = "with --coproc: 64-byte lines of the query stream read ahead (default 4)") streamLines: Option[Int] = None,

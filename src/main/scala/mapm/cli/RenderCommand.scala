@@ -22,7 +22,11 @@ import mapm.sim.MapmRtl
   * timings); `-rtl-timing` in place of `-rtl` for `--fidelity timing`, whose colours are the
   * model's; the run's working files (memory image, expected SOs, the harness's own outputs) in
   * `<scene>-rtl/`. A run stopped by `--max-cycles` is reported as such: its results so far are
-  * checked, the unfinished frame is neither compared nor written. */
+  * checked, the unfinished frame is neither compared nor written.
+  *
+  * It runs the MAPM as its coprocessor ([[mapm.soc.MapmCoproc]], docs/coprocessor.md): the frame is
+  * the one the hardware wrote into its frame buffer. `--bare` runs the MAPM alone and the harness
+  * adds the colours (every other command's default; `--coproc` there). */
 object RenderCommand extends Command {
   val name = "render"
   val summary = "render a frame through the MAPM RTL in Verilator and check it against the model"
@@ -36,9 +40,12 @@ object RenderCommand extends Command {
       @arg(doc = "write an FST waveform to this file (builds a traced harness; --max-cycles, --wave-start and --wave-end keep it short)") wave: Option[String] = None,
       @arg(doc = "first cycle of the waveform") waveStart: Long = 0,
       @arg(doc = "last cycle of the waveform (default: the end of the run)") waveEnd: Option[Long] = None,
-      opts: RtlOptions
+      @arg(doc = "the MAPM alone, the harness adding every colour into its pixel (host-side accumulation, docs/harness.md), instead of the coprocessor (the default: it reads its queries, adds the colours and writes the frame buffer itself; docs/coprocessor.md)") bare: mainargs.Flag = mainargs.Flag(),
+      options: RtlOptions
   ): Int = {
     val wall0 = System.nanoTime()
+    MapmError.check(!(bare.value && options.hw.coproc.value), "render: --bare and --coproc exclude each other (the coprocessor is render's default)")
+    val opts = if (bare.value) options else options.copy(hw = options.hw.copy(coproc = mainargs.Flag(true)))
     val wavePath = wave.map(Paths.get(_).toAbsolutePath)
     val harness = opts.harness(wavePath, waveStart, waveEnd.getOrElse(Long.MaxValue))
     val log = (l: String) => System.err.println(s"mapm: $l")

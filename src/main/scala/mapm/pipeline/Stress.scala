@@ -36,7 +36,7 @@ object Stress {
   def renderCommand(scene: String, e: Entry, g: Int, o: Harness.RunOptions, waveStart: Long, waveEnd: Long, tuning: Tuning = Tuning()): String =
     (Seq("tools/mapm", "render", "--scene", scene, "--tsm", e.tsm.toString, "--som", e.som.toString, "--soa", e.soa.toString, "--g", g.toString) ++
       e.format.toSeq.flatMap(f => Seq("--format", f.name)) ++ tuning.sopL2Banks.toSeq.flatMap(b => Seq("--sop-l2-banks", b.toString)) ++
-      (if (tuning.coproc) Seq("--coproc") else Seq.empty) ++
+      (if (tuning.coproc) Seq.empty else Seq("--bare")) ++ // render's default is the coprocessor
       Seq("--query-order", "host") ++ // the campaign's images stream the queries in the host's order
       o.args.grouped(2).filterNot(kv => kv.head == "--max-cycles" || kv.head == "--clock-ghz").flatten ++
       Seq("--max-cycles", o.maxCycles.toString, "--wave", "stress-fail.fst", "--wave-start", waveStart.toString, "--wave-end", waveEnd.toString))

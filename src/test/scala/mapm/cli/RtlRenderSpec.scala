@@ -27,14 +27,16 @@ class RtlRenderSpec extends AnyFunSuite {
     Files.write(dir.resolve("tiny.json"), text.getBytes("UTF-8"))
   }
 
-  for ((t, s, a, seed) <- Seq((1, 1, 1, 1L), (2, 1, 2, 7L))) test(s"render through the RTL at $t/$s/$a") {
+  for ((t, s, a, seed, bare) <- Seq((1, 1, 1, 1L, false), (2, 1, 2, 7L, true)))
+    test(s"render through the RTL at $t/$s/$a${if (bare) " --bare (the harness adds the colours)" else " (the coprocessor writes the frame buffer)"}") {
     assume(haveVerilator, "verilator is not on PATH: the RTL render test needs it")
     val out = Paths.get(s"target/rtl-render-test/out-$t-$s-$a")
-    assert(RenderCommand.render(tsm = t, som = s, soa = a,
-      opts = RtlOptions(scene = scene.toString, seed = seed, maxCycles = 2000000, out = out.toString, threads = 2)) == 0)
+    assert(RenderCommand.render(tsm = t, som = s, soa = a, bare = mainargs.Flag(bare),
+      options = RtlOptions(scene = scene.toString, seed = seed, maxCycles = 2000000, out = out.toString, threads = 2)) == 0)
     val stats = ujson.read(Files.readAllBytes(out.resolve("rtl-render-test-tiny-rtl-stats.json")))
     assert(stats("result").str == "PASS")
     assert(stats("frameEqualsModel").bool)
+    assert(stats("frameSource").str == (if (bare) "harness accumulation" else "hardware frame buffer"))
     assert(stats("soIssued").num == stats("modelShaderOps").num && stats("soIssued").num > 0)
     assert(stats("soPassingCond").num == stats("modelShaderOpsPassingCond").num)
     assert(stats("tsOps").num == stats("modelTsOps").num)
@@ -48,13 +50,13 @@ class RtlRenderSpec extends AnyFunSuite {
     def run(order: mapm.model.QueryOrder): Path = {
       val out = Paths.get(s"target/rtl-render-test/out-order-$order")
       assert(RenderCommand.render(tsm = 2, som = 1, soa = 2,
-        opts = RtlOptions(scene = scene.toString, seed = 7, maxCycles = 2000000, out = out.toString, threads = 2, queryOrder = Some(order))) == 0)
+        options = RtlOptions(scene = scene.toString, seed = 7, maxCycles = 2000000, out = out.toString, threads = 2, queryOrder = Some(order))) == 0)
       out
     }
     val (host, morton) = (run(mapm.model.QueryOrder.Host), run(mapm.model.QueryOrder.Morton))
     def bytes(dir: Path, f: String) = Files.readAllBytes(dir.resolve("rtl-render-test-tiny-rtl").resolve(f)).toSeq
     val (hi, mi) = (bytes(host, "image.bin"), bytes(morton, "image.bin"))
-    assert(hi.size == mi.size && hi != mi, "the images differ in their query stream alone")
+    assert(hi.size == mi.size && hi != mi, "the images differ in the order of their query records alone")
     assert(bytes(host, "frame.f64") == bytes(morton, "frame.f64"), "the harness's frames are bit-equal")
     val Seq(hs, ms) = Seq(host, morton).map(o => ujson.read(Files.readAllBytes(o.resolve("rtl-render-test-tiny-rtl-stats.json"))))
     for (k <- Seq("soIssued", "soPassingCond", "tsOps", "queries")) assert(hs(k).num == ms(k).num, k)
@@ -71,7 +73,7 @@ class RtlRenderSpec extends AnyFunSuite {
     Files.deleteIfExists(wave)
     val printed = new java.io.ByteArrayOutputStream
     assert(Console.withOut(printed)(RenderCommand.render(tsm = 1, som = 1, soa = 1, wave = Some(wave.toString), waveStart = 100,
-      waveEnd = Some(400), opts = RtlOptions(scene = scene.toString, seed = 1, out = out.toString, threads = 2))) == 0)
+      waveEnd = Some(400), options = RtlOptions(scene = scene.toString, seed = 1, out = out.toString, threads = 2))) == 0)
     val bytes = Files.readAllBytes(wave)
     assert(bytes.length > 1000, "an FST with the window's signal changes")
     assert(printed.toString("UTF-8").contains(s"wrote ${wave.toAbsolutePath} (FST waveform of cycles 100 to 400"), printed)
@@ -79,7 +81,7 @@ class RtlRenderSpec extends AnyFunSuite {
     Files.list(out).iterator.asScala.filter(_.toString.endsWith(".png")).foreach(Files.delete)
     val stopped = new java.io.ByteArrayOutputStream
     assert(Console.withOut(stopped)(RenderCommand.render(tsm = 1, som = 1, soa = 1,
-      opts = RtlOptions(scene = scene.toString, seed = 5, maxCycles = 500, out = out.toString, threads = 2))) == 0)
+      options = RtlOptions(scene = scene.toString, seed = 5, maxCycles = 500, out = out.toString, threads = 2))) == 0)
     val text = stopped.toString("UTF-8")
     assert(text.contains("per-SO check: STOPPED at cycle 500 as asked (--max-cycles 500)") && text.contains("not compared"), text)
     assert(!text.contains("DIFFERENT") && !text.contains("FAIL") && !text.contains("PSNR of the RTL"), text)
