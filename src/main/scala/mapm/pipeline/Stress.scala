@@ -94,8 +94,8 @@ object Stress {
       }
       bar.finish()
       val cs = cycles.result().sorted
-      println(f"${e.label}%-14s ${p.numbers.format.name}%-6s $seeds%d seeds PASS: ${prep.model.count}%d SOs each, none lost or duplicated; " +
-        s"cycles min ${cs.head}, median ${cs(cs.size / 2)}, max ${cs.last}")
+      println(f"${e.label}%-14s ${p.numbers.format.name}%-6s $seeds%d seeds PASS: ${prep.model.count}%d SOs each, none lost or duplicated" +
+        (if (p.sim.coproc) ", the frame buffer bit-equal to the model's" else "") + s"; cycles min ${cs.head}, median ${cs(cs.size / 2)}, max ${cs.last}")
     }
     Files.write(csv, rows.result().mkString("", "\n", "\n").getBytes("UTF-8"))
     println(f"stress: $total%d runs passed ($sos%d shader operations checked, 0 lost, 0 duplicated) in ${(System.nanoTime() - wall0) / 1e9}%.0f s")
