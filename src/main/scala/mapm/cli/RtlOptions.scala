@@ -39,7 +39,7 @@ final case class RtlOptions(
     @arg(doc = "stop the run after this many cycles (0: no limit): what came out is checked, the unfinished frame is not compared") maxCycles: Long = 0,
     @arg(doc = "output folder") out: String = "out",
     @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads,
-    @arg(doc = "order in which the host streams the queries: host (the renderer's, pixel by pixel) or morton (along a Z-order curve through the query points, for photon locality); the frame and the (q, photon) results are the same") queryOrder: Option[QueryOrder] = None,
+    @arg(doc = "order in which the host runs the queries, and writes their records: host (the renderer's, pixel by pixel) or morton (along a Z-order curve through the query points, for photon locality); the frame and the (query, photon) pairs are the same, the queries numbered in that order") queryOrder: Option[QueryOrder] = None,
     hw: HwOptions = HwOptions()) {
 
   /** The fidelity asked for, else the command's default `default` (full for `render` and `sweep`, timing for `evaluate`). */
