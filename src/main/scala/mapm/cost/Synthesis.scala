@@ -52,7 +52,15 @@ object Synthesis {
     val errs = new StringBuilder
     val rc = Process(cmd).#>(log.toFile).!(ProcessLogger(_ => (), l =>
       if (l.startsWith("mapm: ")) { if (errs.isEmpty) errs.append(l.stripPrefix("mapm: ")) } else System.err.println(l)))
-    if (rc != 0) MapmError.fail(if (errs.nonEmpty) errs.toString else s"yosys failed on $top (exit $rc; log in $log)")
+    if (rc != 0) {
+      // The output folder may be a build's temporary one, removed on failure: the log is kept apart.
+      val kept = scala.util.Try {
+        val k = Files.createTempFile(s"mapm-yosys-$top-", ".log")
+        Files.copy(log, k, java.nio.file.StandardCopyOption.REPLACE_EXISTING)
+        k
+      }.getOrElse(log)
+      MapmError.fail(if (errs.nonEmpty) errs.toString else s"yosys failed on $top (exit $rc; log kept in $kept)")
+    }
     (scripts.map(s => Result(top, s, delayPs, out.resolve(s))), (System.nanoTime() - t0) / 1e9)
   }
 }
