@@ -143,8 +143,7 @@ object Harness {
       MapmError.check(v >= 0 && v < 1, s"$n must be a probability in [0, 1), got $v")
     MapmError.check(tailProb == 0 || tailLatency >= (latencyMax max latency),
       s"--tail-latency must be at least --latency-max (${latencyMax max latency}) when --tail-prob is set, got $tailLatency")
-    fault.foreach(f => MapmError.check((Harness.Faults ++ Harness.AxiFaults).contains(f),
-      s"--fault must be one of ${(Harness.Faults ++ Harness.AxiFaults).mkString(", ")}, got $f"))
+    fault.foreach(f => MapmError.check(Harness.AllFaults.contains(f), s"--fault must be one of ${Harness.AllFaults.mkString(", ")}, got $f"))
     MapmError.check(faultAt >= 0, s"--fault-at must be at least 0, got $faultAt")
     def args: Seq[String] = Seq("--latency", latency.toString, "--bandwidth", bandwidth.toString, "--seed", seed.toString,
       "--max-cycles", maxCycles.toString, "--clock-ghz", clockGhz.toString) ++
@@ -164,6 +163,8 @@ object Harness {
   val Faults: Seq[String] = Seq("node-axis", "node-child", "query-index", "unknown-id", "duplicate-response")
   /** The faults only the coprocessor's AXI4 port can take (response codes, RLAST, the write channel). */
   val AxiFaults: Seq[String] = Seq("early-last", "read-error", "write-error", "stray-b")
+  /** Every fault `--fault` takes. */
+  val AllFaults: Seq[String] = Faults ++ AxiFaults
 
   /** The verdict line, the stats (None if the harness wrote none) and the frame (raw doubles).
     * `stopped`: the run ended at `--max-cycles` as asked, every result that came out checked; not

@@ -59,13 +59,14 @@ class RegisterBlock(ident: Map[String, BigInt]) extends Module {
   io.config := cfg
   io.irq := irqStatus && irqEnable
 
+  private val streamBit = RegisterMap("QUERY_ORDER").field("stream").lsb
   /** The configuration registers by name: their 32-bit words. */
   private val cfgWords: Map[String, Seq[UInt]] = {
     def w64(x: UInt) = Seq(x(31, 0), x(63, 32))
     Map("NODE_BASE" -> w64(cfg.nodeBase), "PHOTON_BASE" -> w64(cfg.photonBase), "QUERY_BASE" -> w64(cfg.queryBase),
       "STREAM_BASE" -> w64(cfg.streamBase), "FRAME_BASE" -> w64(cfg.frameBase), "RADIUS" -> w64(cfg.radius),
       "NODE_COUNT" -> Seq(cfg.nodeCount), "QUERY_COUNT" -> Seq(cfg.queryCount), "PIXEL_BASE" -> Seq(cfg.pixelBase),
-      "PIXEL_COUNT" -> Seq(cfg.pixelCount), "FRAME_SCALE" -> Seq(cfg.frameScale.asUInt), "QUERY_ORDER" -> Seq(Cat(0.U(31.W), cfg.useStream)))
+      "PIXEL_COUNT" -> Seq(cfg.pixelCount), "FRAME_SCALE" -> Seq(cfg.frameScale.asUInt), "QUERY_ORDER" -> Seq(Cat(0.U((31 - streamBit).W), cfg.useStream, 0.U(streamBit.W))))
   }
   private def setWord(name: String, word: Int, v: UInt): Unit = {
     def put64(r: UInt): UInt = if (word == 0) Cat(r(63, 32), v) else Cat(v, r(31, 0))
@@ -81,7 +82,7 @@ class RegisterBlock(ident: Map[String, BigInt]) extends Module {
       case "PIXEL_BASE" => cfg.pixelBase := v
       case "PIXEL_COUNT" => cfg.pixelCount := v
       case "FRAME_SCALE" => cfg.frameScale := v.asSInt
-      case "QUERY_ORDER" => cfg.useStream := v(RegisterMap("QUERY_ORDER").field("stream").lsb)
+      case "QUERY_ORDER" => cfg.useStream := v(streamBit)
     }
   }
   /** A read-only register's value: identification fields packed from `ident`, or live state. */

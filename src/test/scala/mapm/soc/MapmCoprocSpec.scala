@@ -83,7 +83,7 @@ class MapmCoprocSpec extends AnyFunSuite {
   private def alsoAllowed(cause: String): Set[String] = if (cause == "AXI_PROTOCOL") Set("RECORD") else Set.empty
 
   test("every fault the harness injects is one this spec checks") {
-    assert(faults.map(_._1).sorted == (Harness.Faults ++ Harness.AxiFaults).sorted)
+    assert(faults.map(_._1).sorted == Harness.AllFaults.sorted)
   }
 
   for ((fault, cause) <- faults)
