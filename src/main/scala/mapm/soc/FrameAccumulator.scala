@@ -33,21 +33,21 @@ class Contribution(p: MapmParams) extends Bundle {
   * SOM lane how many entries are free, and the lane takes new SOs only while everything it has
   * fits, so no result is ever dropped (`overflow` would say so). The pixels of the tile (up to
   * 2^tileLog2) are spread over `frameBanks` banks by the low bits of their offset from
-  * `pixelBase`; each bank takes one contribution a cycle from the FIFO heads that want it (round
-  * robin) together with up to [[FrameAccumulator.Combine]] - 1 more heads that name the same pixel
-  * (the SOs of one query, and of the queries of one pixel, which the Morton order runs side by
-  * side), adds them, reads the pixel's entry and writes the sum back the next cycle, forwarding
-  * it to a read of the same pixel in between. The sums are integers, so adding several in one
-  * step is the same as adding them one by one. Each port converts its results ([[FrameConvert]])
-  * before its FIFO. A result whose pixel lies
-  * outside `pixelBase .. pixelBase + pixelCount - 1` is refused (fault `pixel`).
+  * `pixelBase`. The FIFO heads reach their banks through a combining network ([[FrameCombiner]]),
+  * which adds contributions of the same pixel into one partial wherever they meet (one query's
+  * passing SOs, spread over the lanes, all go to its pixel within a few cycles); each bank takes one
+  * partial a cycle, reads the pixel's entry and writes the sum back the next cycle, forwarding it
+  * to a read of the same pixel in between. The sums are integers, so adding several in one step is
+  * the same as adding them one by one. Each port converts its results ([[FrameConvert]]) before
+  * its FIFO. A result whose pixel lies outside `pixelBase .. pixelBase + pixelCount - 1` is refused
+  * (fault `pixel`).
   *
   * `clear` zeroes the pass's pixels (one row of every bank a cycle: pixelCount / banks cycles;
   * `ready` is low and `room` zero meanwhile). `read` reads a pixel's entry for the writer (`readOut` the next cycle); it is for
   * when the accumulator is `idle`.
   *
-  * Latency: 3 cycles from a result to its pixel's entry when its FIFO and bank are free.
-  * Throughput: one contribution a cycle per bank.
+  * Latency: log2(ports) + 3 cycles from a result to its pixel's entry when nothing waits.
+  * Throughput: one partial a cycle per bank.
   */
 class FrameAccumulator(p: MapmParams) extends Module {
   private val fa = p.frameAccum
@@ -113,38 +113,37 @@ class FrameAccumulator(p: MapmParams) extends Module {
   private val readBank = RegNext(if (banks == 1) 0.U else io.read.bits(bankBits - 1, 0))
   private val readValid = RegNext(io.read.valid, false.B)
   private val readData = Wire(Vec(banks, new PixelSums(fa)))
-  private val wants = Seq.tabulate(banks)(b => VecInit(fifos.map(f => f.io.deq.valid && bankOf(f.io.deq.bits) === b.U)).asUInt)
-  private val granted = Wire(Vec(banks, UInt(lanes.W)))
+
+  // The FIFO heads through the combining network to their banks, the same pixel's added on the way.
+  private val parts = FrameAccumulator.maxParts(lanes, banks)
+  private val sumBits = FramePartial.sumBits(fa, parts)
+  val net = Module(new FrameCombiner(lanes, banks, tileLog2, sumBits, parts))
+  for ((f, l) <- fifos.zipWithIndex) {
+    val c = f.io.deq.bits
+    val good = !c.nonFinite && !c.range
+    val in = net.io.in(l)
+    in.valid := f.io.deq.valid
+    in.bits.offset := c.offset
+    for (ch <- 0 until Rgb.Channels) in.bits.sum(ch) := Mux(good, c.value(ch), 0.S)
+    in.bits.good := good.asUInt
+    in.bits.nonFinite := c.nonFinite
+    in.bits.range := c.range
+    net.io.dest(l) := bankOf(c)
+    f.io.deq.ready := in.ready
+  }
 
   for (b <- 0 until banks) {
     val mem = SyncReadMem(rows, new PixelSums(fa))
-    // Stage 1: the granted head and up to Combine - 1 more of the same pixel, added; the row read.
-    val rr = RegInit(0.U(Index.bits(lanes).W))
-    val (anyWant, pick) = RoundRobin.first(wants(b), rr)
-    val any = anyWant && !clearing
-    val heads = VecInit(fifos.map(_.io.deq.bits))
-    val target = heads(pick).offset
-    val same = VecInit(fifos.zipWithIndex.map { case (f, l) => wants(b)(l) && f.io.deq.bits.offset === target }).asUInt
-    val after = RoundRobin.atOrAfter(pick, lanes)
-    val chosen = (1 until FrameAccumulator.Combine).scanLeft(UIntToOH(pick, lanes)) { (taken, _) =>
-      taken | RoundRobin.firstOneHot(same & ~taken, after)
-    }.last
-    val takes = Mux(any, chosen, 0.U)
-    granted(b) := takes
-    when(any) { rr := Index.next(pick, lanes) }
-    val parts = (0 until FrameAccumulator.Combine).map { k =>
-      val oh = (1 to k).foldLeft(takes) { (m, _) => m & (m - 1.U) } // drop the k lowest set bits
-      val one = PriorityEncoderOH(oh)
-      (one.orR, Mux1H(one, heads))
-    }
-    val wide = fa.limitBits + 1 + log2Ceil(FrameAccumulator.Combine)
+    // Stage 1: the bank's partial taken; its row read.
+    val o = net.io.out(b)
+    o.ready := !clearing
+    val any = o.fire
     val v1 = RegNext(any, false.B)
-    val row1 = RegEnable(rowOf(target), any)
-    val add1 = RegEnable(VecInit((0 until Rgb.Channels).map(ch =>
-      parts.map { case (v, c) => Mux(v && !c.nonFinite && !c.range, c.value(ch), 0.S).pad(wide) }.reduce(_ +& _))), any)
-    val good1 = RegEnable(PopCount(parts.map { case (v, c) => v && !c.nonFinite && !c.range }), any)
-    val nonFinite1 = RegEnable(parts.map { case (v, c) => v && c.nonFinite }.reduce(_ || _), any)
-    val range1 = RegEnable(parts.map { case (v, c) => v && c.range }.reduce(_ || _), any)
+    val row1 = RegEnable(rowOf(o.bits.offset), any)
+    val add1 = RegEnable(o.bits.sum, any)
+    val good1 = RegEnable(o.bits.good, any)
+    val nonFinite1 = RegEnable(o.bits.nonFinite, any)
+    val range1 = RegEnable(o.bits.range, any)
     val readRow = Mux(io.read.valid, rowOf(io.read.bits), row1)
     val rdata = mem.read(readRow, true.B)
     readData(b) := rdata
@@ -175,19 +174,17 @@ class FrameAccumulator(p: MapmParams) extends Module {
     when(v2 && full) { faults.count := true.B }
     bankIdle(b) := !v1 && !v2
   }
-  for ((f, l) <- fifos.zipWithIndex) f.io.deq.ready := granted.map(_(l)).reduce(_ || _)
-
   io.faults := faults
   io.overflow := overflow
-  io.idle := fifos.map(f => !f.io.deq.valid).reduce(_ && _) && bankIdle.asUInt.andR && !clearing
+  io.idle := fifos.map(f => !f.io.deq.valid).reduce(_ && _) && net.io.idle && bankIdle.asUInt.andR && !clearing
   io.readOut.valid := readValid
   io.readOut.bits := readData(readBank)
 }
 
 /** The accumulation's faults, one bit each (the ERROR_CAUSE bits of the same names). */
 object FrameAccumulator {
-  /** Heads of one pixel a bank adds in one read-add-write. */
-  val Combine: Int = 4
+  /** The most contributions one partial can carry: one from each of the network's inputs. */
+  def maxParts(lanes: Int, banks: Int): Int = 1 << log2Ceil(lanes max banks max 2)
 }
 
 class FrameFaults extends Bundle {
