@@ -183,8 +183,9 @@ class FrameAccumulator(p: MapmParams) extends Module {
 
 /** The accumulation's faults, one bit each (the ERROR_CAUSE bits of the same names). */
 object FrameAccumulator {
-  /** The most contributions one partial can carry: one from each of the network's inputs. */
-  def maxParts(lanes: Int, banks: Int): Int = 1 << log2Ceil(lanes max banks max 2)
+  /** The most good contributions one partial may carry (the network stops merging there): four
+    * per network port. */
+  def maxParts(lanes: Int, banks: Int): Int = 4 << log2Ceil(lanes max banks max 2)
 }
 
 class FrameFaults extends Bundle {

@@ -37,7 +37,9 @@ object FramePartial {
   * whose bit k-1-s is its destination's, so after k stages a partial sits at its destination. Each
   * 2 x 2 switch sends both partials when they go apart; when both want the same side it adds them if
   * they name the same pixel, else sends one (the two inputs take turns) and holds the other. Every
-  * switch output is a two-entry queue, so no ready runs combinationally from one stage to the next.
+  * switch output is a short [[MergeQueue]], which adds a partial into its newest entry when both
+  * name the same pixel (so a hot pixel's stream collapses even when its partials meet nowhere
+  * else), and whose state is registered, so no ready runs from one stage through the next.
   *
   * Latency: k cycles when nothing waits. Throughput: one partial per output per cycle; n/2 log2 n
   * switches, each two adders of `sumBits` per channel and four queue entries.
@@ -65,6 +67,9 @@ class FrameCombiner(inputs: Int, outputs: Int, tileLog2: Int, sumBits: Int, maxP
     val dest = UInt(k.W)
   }
 
+  /** Whether two partials may become one: the same pixel, and no more than `maxParts` good ones. */
+  private def mergeable(a: FramePartial, b: FramePartial): Bool = a.offset === b.offset && (a.good +& b.good) <= maxParts.U
+
   private def add(a: FramePartial, b: FramePartial): FramePartial = {
     val r = Wire(partial)
     r.offset := a.offset
@@ -89,18 +94,20 @@ class FrameCombiner(inputs: Int, outputs: Int, tileLog2: Int, sumBits: Int, maxP
     }
     w
   }
-  private val queues = scala.collection.mutable.ArrayBuffer[Queue[Hop]]()
+  private val queues = scala.collection.mutable.ArrayBuffer[MergeQueue[Hop]]()
   for (s <- 0 until k) {
     val b = k - 1 - s
     val next = Array.fill[DecoupledIO[Hop]](n)(null)
     for (x0 <- 0 until n if ((x0 >> b) & 1) == 0) {
       val x1 = x0 | (1 << b)
       val ins = Seq(cur(x0), cur(x1))
-      val outQ = Seq.fill(2)(Module(new Queue(new Hop, 2)))
+      val outQ = Seq.fill(2)(Module(new MergeQueue(new Hop, FrameCombiner.Depth, (x: Hop, y: Hop) => mergeable(x.p, y.p), (x: Hop, y: Hop) => {
+        val m = Wire(new Hop); m.dest := x.dest; m.p := add(x.p, y.p); m
+      })))
       queues ++= outQ
       val side = ins.map(h => h.bits.dest(b))
       val both = ins(0).valid && ins(1).valid && side(0) === side(1)
-      val same = both && ins(0).bits.p.offset === ins(1).bits.p.offset
+      val same = both && mergeable(ins(0).bits.p, ins(1).bits.p)
       val turn = RegInit(false.B) // which input goes first when both want one side with different pixels
       val first = Mux(both && !same, turn, false.B) // index of the input sent alone on a clash
       for (o <- 0 until 2) {
@@ -133,4 +140,39 @@ class FrameCombiner(inputs: Int, outputs: Int, tileLog2: Int, sumBits: Int, maxP
     } else cur(y).ready := true.B // no partial is addressed beyond the outputs
   }
   io.idle := queues.map(!_.io.deq.valid).reduce(_ && _) && io.in.map(!_.valid).reduce(_ && _)
+}
+
+object FrameCombiner {
+  /** Entries of each switch output's queue. */
+  val Depth: Int = 2
+}
+
+/** A queue of `depth` entries that adds an entry into its newest one (`merge`) when `mergeable`
+  * says they may and the newest is not leaving in that cycle; it takes one then even when full.
+  * Latency: one cycle. Throughput: one entry in and one out per cycle. */
+class MergeQueue[T <: Data](gen: T, depth: Int, mergeable: (T, T) => Bool, merge: (T, T) => T) extends Module {
+  require(depth >= 2, s"a merging queue needs two entries, got $depth")
+  override def desiredName = s"MergeQueue_$depth"
+  val io = IO(new Bundle {
+    val enq = Flipped(Decoupled(gen))
+    val deq = Decoupled(gen)
+  })
+  private val data = Reg(Vec(depth, gen))
+  private val count = RegInit(0.U(log2Ceil(depth + 1).W))
+  private val head = RegInit(0.U(log2Ceil(depth).W))
+  private def wrap(i: UInt): UInt = Mux(i >= depth.U, i - depth.U, i)
+  private val newest = wrap(head +& count - 1.U)
+  private val deqing = io.deq.ready && count =/= 0.U
+  // Merge into the newest entry unless it is the one leaving now.
+  private val canMerge = count =/= 0.U && mergeable(data(newest), io.enq.bits) && !(deqing && count === 1.U)
+  io.enq.ready := canMerge || count =/= depth.U || deqing
+  io.deq.valid := count =/= 0.U
+  io.deq.bits := data(head)
+  private val enqing = io.enq.valid && io.enq.ready
+  when(enqing) {
+    when(canMerge) { data(newest) := merge(data(newest), io.enq.bits) }
+    .otherwise { data(wrap(head +& count)) := io.enq.bits }
+  }
+  when(deqing) { head := wrap(head +& 1.U) }
+  count := count + (enqing && !canMerge).asUInt - deqing.asUInt
 }
