@@ -144,7 +144,7 @@ class FrameCombiner(inputs: Int, outputs: Int, tileLog2: Int, sumBits: Int, maxP
 
 object FrameCombiner {
   /** Entries of each switch output's queue. */
-  val Depth: Int = 2
+  val Depth: Int = 4
 }
 
 /** A queue of `depth` entries that adds an entry into its newest one (`merge`) when `mergeable`
