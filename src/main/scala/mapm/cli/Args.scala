@@ -49,7 +49,7 @@ object Args {
 
   /** The values a value type accepts, from the parsers of those types, for the help. */
   lazy val choices: Map[String, String] =
-    Seq(FloatFormatReader, ArithReader, FidelityReader, SlotLayoutReader, QueryOrderReader, CacheSpecReader, HierarchyReader).map(r => r.shortName -> r.accepted).toMap
+    Seq(FloatFormatReader, ArithReader, FidelityReader, SlotLayoutReader, QueryOrderReader, CacheSpecReader, HierarchyReader, SoBusReader).map(r => r.shortName -> r.accepted).toMap
 
   /** The options of `container`'s `@main` method, those of its option groups (such as
     * [[RtlOptions]]) in place, less `hide`; each default read from the parser itself (the
@@ -189,6 +189,8 @@ object Args {
     new ValueReader("order", mapm.model.QueryOrder.all.mkString(", "), mapm.model.QueryOrder.parse)
   implicit val HierarchyReader: ValueReader[mapm.params.Hierarchy] =
     new ValueReader("hierarchy", mapm.params.Hierarchy.all.mkString(", "), mapm.params.Hierarchy.parse)
+  implicit val SoBusReader: ValueReader[mapm.params.SoBus] =
+    new ValueReader("bus", mapm.params.SoBus.all.mkString(", "), mapm.params.SoBus.parse)
   implicit val CacheSpecReader: ValueReader[mapm.pipeline.CacheSpec] =
     new ValueReader("geometry", "SIZE[/LINE[/WAYS]], e.g. 32K/32/4 or 512K/64/full", mapm.pipeline.CacheSpec.parse)
 

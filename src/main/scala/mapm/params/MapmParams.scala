@@ -166,10 +166,24 @@ object L2Structure {
   }
 }
 
-/** The memory system between the blocks' L1s and the memory port (mapm.uncore). */
+/** How the Data bus hands the TSMs' SO groups to the SOMs (mapm.uncore, docs/mapm.md). */
+sealed abstract class SoBus(name: String) extends mapm.Choice(name)
+object SoBus extends mapm.Choices[SoBus] {
+  /** The dissertation's (3.2): in one cycle, the groups claim SOMs with room one TSM after another
+    * (t x s logic, a combinational path from a SOM lane's free count to a TSM's stall). */
+  case object Serial extends SoBus("serial")
+  /** A ring of credit tokens and a registered rotation (N log N logic, N = max(t, s); every stage
+    * registered; a group reaches its SOM a few cycles after its grant). */
+  case object Ring extends SoBus("ring")
+  val all: Seq[SoBus] = Seq(Ring, Serial)
+  protected def unknown(s: String): String = s"Data bus must be ${all.mkString(" or ")}, got '$s'"
+}
+
+/** The memory system between the blocks' L1s and the memory port, and the Data bus (mapm.uncore). */
 final case class UncoreParams(
     tsL2: L2Structure = L2Structure.Shared, // the TS L2: one shared cache, or address-interleaved banks
-    sopL2: L2Structure = L2Structure.Shared // the SOP L2: one shared cache, or address-interleaved banks
+    sopL2: L2Structure = L2Structure.Shared, // the SOP L2: one shared cache, or address-interleaved banks
+    soBus: SoBus = SoBus.Serial              // the Data bus: the dissertation's serial claims, or the staged ring
 )
 
 /** The memory hierarchy a configuration is built with: the dissertation's (Table 4.2: one shared

@@ -75,7 +75,8 @@ final case class Tuning(
     coproc: Boolean = false,                // run the coprocessor (docs/coprocessor.md) rather than the bare MAPM
     frameBanks: Option[Int] = None,         // the coprocessor's accumulator banks
     resultFifo: Option[Int] = None,         // the coprocessor's result FIFO entries per SOA
-    streamLines: Option[Int] = None         // the coprocessor's query-stream lines read ahead
+    streamLines: Option[Int] = None,        // the coprocessor's query-stream lines read ahead
+    soBus: Option[SoBus] = None             // the Data bus (None: the hierarchy's)
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
@@ -85,7 +86,8 @@ final case class Tuning(
       memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate")) ++
       sopL2Banks.map(b => s"sop-l2-banks=$b") ++ tsL2Banks.map(b => s"ts-l2-banks=$b") ++
       (if (hierarchy == Hierarchy.Scalable) None else Some(s"hierarchy=$hierarchy")) ++ (if (coproc) Some("coproc") else None) ++
-      frameBanks.map(b => s"frame-banks=$b") ++ resultFifo.map(f => s"result-fifo=$f") ++ streamLines.map(l => s"stream-lines=$l")
+      frameBanks.map(b => s"frame-banks=$b") ++ resultFifo.map(f => s"result-fifo=$f") ++ streamLines.map(l => s"stream-lines=$l") ++
+      soBus.map(b => s"so-bus=$b")
   }
 
   /** The hierarchy and the sizes given, in a phrase for a log or a report. */
@@ -139,7 +141,7 @@ object Configure {
           // The hierarchy's L2 structures for the SOP L2 as given, each bank count given in their place.
           val u = h.uncore(base.counts, sopL2)
           u.copy(tsL2 = t.tsL2Banks.map(l2Structure("ts-l2-banks", _)).getOrElse(u.tsL2),
-            sopL2 = t.sopL2Banks.map(l2Structure("sop-l2-banks", _)).getOrElse(u.sopL2))
+            sopL2 = t.sopL2Banks.map(l2Structure("sop-l2-banks", _)).getOrElse(u.sopL2), soBus = t.soBus.getOrElse(u.soBus))
         },
         caches = CachesParams(tsL1 = fit("ts-l1", h.tsL1, t.tsL1, r.node.bytes), tsL2 = fit("ts-l2", c.tsL2, t.tsL2, 0),
           soq = fit("soq", h.soq, t.soq, r.queryHwBytes), sopL1 = fit("sop-l1", c.sopL1, t.sopL1, r.photon.bytes),

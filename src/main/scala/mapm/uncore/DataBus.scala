@@ -5,6 +5,16 @@ import chisel3.util._
 import mapm.params.{MapmParams, SoGroup}
 import mapm.util.{Index, RoundRobin, Rotate}
 
+/** The ports of a Data bus, whichever [[mapm.params.SoBus]] builds it. */
+class SoBusIO(p: MapmParams) extends Bundle {
+  /** The TSMs' SO groups. */
+  val in = Vec(p.counts.tsm, Flipped(Decoupled(new SoGroup(p))))
+  /** Each SOM's lanes' free reservation-station entries. */
+  val free = Input(Vec(p.counts.som, Vec(p.counts.soaPerSom, UInt(log2Ceil(p.rsPerSoa + 1).W))))
+  /** The group each SOM takes this cycle. */
+  val out = Output(Vec(p.counts.som, Valid(new SoGroup(p))))
+}
+
 /** The Data bus (3.2): hands the TSMs' SO groups to SOMs with room for them.
   *
   * Each cycle every SOM takes at most one group and every group goes to at most one SOM, whole.
@@ -23,11 +33,7 @@ class DataBus(p: MapmParams) extends Module {
   private val a = p.counts.soaPerSom
   override def desiredName = s"DataBus_t${t}_s${s}_a$a"
 
-  val io = IO(new Bundle {
-    val in = Vec(t, Flipped(Decoupled(new SoGroup(p))))
-    val free = Input(Vec(s, Vec(a, UInt(log2Ceil(p.rsPerSoa + 1).W))))
-    val out = Output(Vec(s, Valid(new SoGroup(p))))
-  })
+  val io = IO(new SoBusIO(p))
 
   val startT = RegInit(0.U(Index.bits(t).W))
   val startS = RegInit(0.U(Index.bits(s).W))

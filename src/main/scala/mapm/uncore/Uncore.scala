@@ -3,7 +3,7 @@ package mapm.uncore
 import chisel3._
 import chisel3.util._
 import mapm.memory.{MemArbiter, MemPort}
-import mapm.params.{MapmParams, SoGroup}
+import mapm.params.{MapmParams, SoBus, SoGroup}
 import mapm.util.{CostBlock, Counters}
 
 /** Counters of the uncore (64 bits each; docs/mapm.md). */
@@ -36,7 +36,8 @@ class Uncore(p: MapmParams) extends Module {
   private val s = p.counts.som
   private val a = p.counts.soaPerSom
   val shapes: Shapes = Shapes(p)
-  override def desiredName = s"Uncore_t${t}_s${s}_a${a}_ts${p.uncore.tsL2.name}_sop${p.uncore.sopL2.name}"
+  override def desiredName = s"Uncore_t${t}_s${s}_a${a}_ts${p.uncore.tsL2.name}_sop${p.uncore.sopL2.name}" +
+    (if (p.uncore.soBus == SoBus.Serial) "" else s"_${p.uncore.soBus.name}")
   CostBlock.tag(this, CostBlock.Uncore)
 
   val io = IO(new Bundle {
@@ -68,10 +69,13 @@ class Uncore(p: MapmParams) extends Module {
   for ((u, i) <- ups.zipWithIndex) arb.io.up(i) <> u
   io.mem <> arb.io.down
 
-  val bus = Module(new DataBus(p))
-  bus.io.in <> io.groups
-  bus.io.free := io.free
-  io.som := bus.io.out
+  val bus: SoBusIO = p.uncore.soBus match {
+    case SoBus.Serial => Module(new DataBus(p)).io
+    case SoBus.Ring => Module(new RingBus(p)).io
+  }
+  bus.in <> io.groups
+  bus.free := io.free
+  io.som := bus.out
 
   // Requests outstanding on the memory port (request taken to last beat).
   private val outstanding = RegInit(0.U(log2Ceil(p.memory.maxOutstanding + 1).W))

@@ -41,7 +41,8 @@ class RtlOptionsSpec extends AnyFunSuite {
     for (other <- Seq(base.copy(latency = 101), base.copy(bandwidth = 7.0), base.copy(g = 4), base.copy(seed = 2),
       base.copy(fidelity = Some(mapm.params.Fidelity.Timing)), base.copy(format = Some(mapm.numerics.FloatFormat.fp16)),
       base.copy(hw = HwOptions(rsEntries = Some(8))), base.copy(queryOrder = Some(mapm.model.QueryOrder.Host)),
-      base.copy(hw = HwOptions(hierarchy = mapm.params.Hierarchy.Table42)), base.copy(hw = HwOptions(tsL2Banks = Some(2)))))
+      base.copy(hw = HwOptions(hierarchy = mapm.params.Hierarchy.Table42)), base.copy(hw = HwOptions(tsL2Banks = Some(2))),
+      base.copy(hw = HwOptions(soBus = Some(mapm.params.SoBus.Ring)))))
       assert(mapm.evaluation.RunArchive.key(code, scene, other.settings().archiveText(scene), (2, 1, 2)) != k, other.toString)
     assert(mapm.evaluation.RunArchive.key(code, scene, base.settings().archiveText(scene), (2, 1, 3)) != k)
     assert(mapm.evaluation.RunArchive.key("c1", scene, base.settings().archiveText(scene), (2, 1, 2)) != k)
@@ -59,7 +60,7 @@ import mapm.pipeline.CacheSpec
     for (_ <- 0 until 200) {
       val hw = HwOptions(maybe(rnd.nextInt(512) + 1), maybe(8 * (rnd.nextInt(4) + 1)), maybe(spec), maybe(spec), maybe(spec), maybe(spec),
         maybe(spec), maybe(rnd.nextInt(64) + 1), pick(mapm.params.Hierarchy.all: _*), maybe(pick(1, 2, 4, 16)), maybe(pick(1, 2, 8)),
-        mainargs.Flag(rnd.nextBoolean()))
+        mainargs.Flag(rnd.nextBoolean()), soBus = maybe(pick(mapm.params.SoBus.all: _*)))
       val o = RtlOptions(scene = pick("test-scenes/cornell-box/scene.json", "a b/c.json"), format = maybe(pick(FloatFormat.fp16, FloatFormat(5, 4), FloatFormat.fp64)),
         layout = pick(mapm.format.SlotLayout.Packed, mapm.format.SlotLayout.Wide), g = rnd.nextInt(5), arith = pick(mapm.numerics.Arith.Online, mapm.numerics.Arith.Conventional),
         fidelity = maybe(pick(Fidelity.Full, Fidelity.Timing)), latency = rnd.nextInt(300), latencyMax = rnd.nextInt(400),

@@ -1,0 +1,173 @@
+package mapm.uncore
+
+import chisel3._
+import chisel3.util._
+import mapm.params.{MapmParams, SoGroup}
+import mapm.util.{Index, Rotate}
+
+/** A group waiting at the ring bus's input, with its SOs per SOM lane (computed once, on the way in). */
+class RingEntry(p: MapmParams) extends Bundle {
+  val group = new SoGroup(p)
+  val need = Vec(p.counts.soaPerSom, UInt(RingBus.needBits.W))
+}
+
+/** The staged Data bus (docs/mapm.md, "The ring bus"): hands the TSMs' SO groups to SOMs with room
+  * for them through a ring of credit tokens and a pipelined rotation, every stage registered.
+  *
+  * Slots 0 .. N-1 (N = max(TSMs, SOMs)) sit on a ring; TSM i is at slot i. Each SOM owns one token,
+  * its lanes' credits, and every cycle every token moves one slot down (slot k to k - 1 mod N), so
+  * that slot k holds SOM (k + r) mod N's token in the cycle where the rotation counter r is r. A
+  * TSM compares its waiting group's SOs per lane with the token before it and, if they fit, takes
+  * them off the token and sends the group; the group reaches its SOM through a barrel rotation by
+  * r with a register after every [[RingBus.LevelsPerStage]] select levels and at its end. Each
+  * SOM's lanes' free counts are registered where they come in; what they grew by besides the
+  * groups the SOM took (entries it issued or the consumer's room) returns to its token through a
+  * rotation of the same kind. A token's credits plus its groups in flight never exceed its lanes'
+  * free entries, so a SOM takes every group that reaches it.
+  *
+  * Fairness: a TSM whose group no token took for N cycles reserves the next unreserved token that
+  * passes it; no other TSM takes from that token, and the TSM takes nothing but it, until it fits.
+  * With TSMs <= SOMs some token is always unreserved, so a group waits at most 3N cycles plus
+  * the time its reserved SOM takes to free the entries (docs/mapm.md).
+  *
+  * Latency: a group's input queue (one cycle), then [[latency]] cycles from its grant to its SOM.
+  * Throughput: one group a cycle per TSM and per SOM, at most N a cycle in all. Logic: N log N
+  * selects of a group, N tokens of a x log2(RS + 1) bits; no path longer than two select levels.
+  */
+class RingBus(p: MapmParams) extends Module {
+  private val t = p.counts.tsm
+  private val s = p.counts.som
+  private val a = p.counts.soaPerSom
+  private val n = p.rsPerSoa
+  private val slots = t max s
+  private val w = log2Ceil(n + 1)
+  override def desiredName = s"RingBus_t${t}_s${s}_a${a}_r$n"
+
+  val io = IO(new SoBusIO(p))
+
+  /** Registers from a grant to its SOM. */
+  val latency: Int = RingBus.stages(slots, RingBus.LevelsPerStage)
+
+  // Each TSM's groups wait in a two-entry queue: its ready and its head are registers.
+  private val heads = io.in.map { in =>
+    val q = Module(new Queue(new RingEntry(p), 2))
+    q.io.enq.valid := in.valid
+    q.io.enq.bits.group := in.bits
+    q.io.enq.bits.need := VecInit(SoGroup.needs(in.bits, a))
+    in.ready := q.io.enq.ready
+    q.io.deq
+  }
+
+  val r = RegInit(0.U(Index.bits(slots).W))
+  r := Index.next(r, slots)
+
+  // A rotation of `v` by `by` with a register after every LevelsPerStage levels and after the last.
+  private def pipelined[T <: Data](v: Seq[T], by: UInt, back: Boolean, perStage: Int)(reg: T => T): Seq[T] = {
+    val (out, _) = RingBus.groupsOfLevels(slots, perStage).foldLeft((v, by)) { case ((cur, amt), levels) =>
+      (levels.foldLeft(cur)((c, b) => Rotate.level(c, amt, b, back)).map(reg), RegNext(amt))
+    }
+    out
+  }
+
+  // Returned credits. seen = free one cycle late; acc = seen less what the SOM took, one cycle late;
+  // seen - acc is what the lane's free count grew by besides the group the SOM took two cycles ago.
+  private val zeroLanes = VecInit(Seq.fill(s)(VecInit(Seq.fill(a)(0.U(w.W)))))
+  private val seen = RegNext(io.free, zeroLanes)
+  private val took = Wire(Vec(s, Vec(a, UInt(w.W))))
+  private val tookBefore = RegNext(took, zeroLanes)
+  private val acc = RegNext(VecInit(seen.zip(tookBefore).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }), zeroLanes)
+  private val grew = seen.zip(acc).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }
+  // Credits are narrow: their rotation takes ReturnLevelsPerStage levels a stage. The token that
+  // slot k holds `returnLatency` cycles from now is SOM (k + r + returnLatency) mod slots's.
+  val returnLatency: Int = RingBus.stages(slots, RingBus.ReturnLevelsPerStage)
+  val rRet = RegInit((returnLatency % slots).U(Index.bits(slots).W))
+  rRet := Index.next(rRet, slots)
+  private val back = pipelined(grew ++ Seq.fill(slots - s)(VecInit(Seq.fill(a)(0.U(w.W)))), rRet, back = false, RingBus.ReturnLevelsPerStage)(
+    x => RegNext(x, VecInit(Seq.fill(a)(0.U(w.W)))))
+
+  // The tokens, their reservations and each TSM's wait.
+  private val noResv = 0.U.asTypeOf(Valid(UInt(Index.bits(t).W)))
+  val credit = RegInit(VecInit(Seq.fill(slots)(VecInit(Seq.fill(a)(0.U(w.W))))))
+  val real = RegInit(VecInit(Seq.tabulate(slots)(k => (k < s).B)))
+  val resv = RegInit(VecInit(Seq.fill(slots)(noResv)))
+  val holds = RegInit(VecInit(Seq.fill(t)(false.B)))
+  val waited = RegInit(VecInit(Seq.fill(t)(0.U(log2Ceil(slots + 1).W))))
+
+  // TSM i may take the token at slot i (its own) or, when TSM i + 1 does not take it, the one at
+  // slot i + 1 (its next): whether TSM i's group may take the token at slot k.
+  private def mayTake(i: Int, k: Int): Bool = {
+    val h = heads(i)
+    val mine = resv(k).valid && resv(k).bits === i.U
+    val fits = h.bits.need.zip(credit(k)).map { case (x, c) => x <= c }.reduce(_ && _)
+    h.valid && real(k) && fits && (!resv(k).valid || mine) && (!holds(i) || mine)
+  }
+  private val own = Seq.tabulate(slots)(k => if (k < t) mayTake(k, k) else false.B)
+  private val next = Seq.tabulate(slots) { i =>
+    val k = (i + 1) % slots
+    if (i < t && slots > 1) !own(i) && !own(k) && mayTake(i, k) else false.B
+  }
+  private def prev(k: Int) = (k + slots - 1) % slots
+
+  private val offers = Wire(Vec(slots, Valid(new RingEntry(p))))
+  for (k <- 0 until slots) {
+    val down = prev(k)
+    // The token at slot k goes to TSM k (own) or TSM k - 1 (its next), or to nobody.
+    val byNext = if (down < t && slots > 1) next(down) else false.B
+    offers(k).valid := own(k) || byNext
+    offers(k).bits := (if (k < t && down < t && slots > 1) Mux(own(k), heads(k).bits, heads(down).bits)
+      else if (k < t) heads(k).bits else if (down < t) heads(down).bits else 0.U.asTypeOf(new RingEntry(p)))
+    val take = Mux(offers(k).valid, offers(k).bits.need, VecInit(Seq.fill(a)(0.U(RingBus.needBits.W))))
+    credit(down) := VecInit(credit(k).zip(back(k)).zip(take).map { case ((c, g), x) => c + g - x })
+    real(down) := real(k)
+    // A reservation ends when its holder takes the token; a TSM that has waited a whole round
+    // reserves its own token when nobody holds it.
+    val taker = Mux(own(k), k.U, down.U)
+    resv(down) := resv(k)
+    when(offers(k).valid && resv(k).valid && resv(k).bits === taker) { resv(down) := noResv }
+    if (k < t) {
+      val h = heads(k)
+      val granted = own(k) || next(k)
+      val starving = waited(k) === slots.U
+      val reserve = h.valid && !granted && starving && !holds(k) && real(k) && !resv(k).valid
+      h.ready := granted
+      when(reserve) { resv(down).valid := true.B; resv(down).bits := k.U }
+      holds(k) := Mux(reserve, true.B, Mux(granted, false.B, holds(k)))
+      waited(k) := Mux(!h.valid || granted, 0.U, Mux(starving, waited(k), waited(k) + 1.U))
+    }
+  }
+
+  // Granted groups to their SOMs: slot k's group goes to SOM (k + r) mod slots.
+  private val arrive = pipelined(offers, r, back = true, RingBus.LevelsPerStage) { x =>
+    val y = Wire(Valid(new RingEntry(p)))
+    y.valid := RegNext(x.valid, false.B)
+    y.bits := RegNext(x.bits)
+    y
+  }
+  for (j <- 0 until s) {
+    io.out(j).valid := arrive(j).valid
+    io.out(j).bits := arrive(j).bits.group
+    took(j) := VecInit(arrive(j).bits.need.map(x => Mux(arrive(j).valid, x, 0.U)))
+  }
+}
+
+object RingBus {
+  /** Bits of a group's SOs for one lane (at most [[SoGroup.Size]]). */
+  val needBits: Int = log2Ceil(SoGroup.Size + 1)
+
+  /** Select levels between two registers of the groups' rotation (two: a 300-bit group's select
+    * and its fan-out in about a third of a 3 ns cycle on OSU 0.18 um). */
+  val LevelsPerStage = 2
+
+  /** Select levels between two registers of the credits' rotation (a few bits a slot). */
+  val ReturnLevelsPerStage = 4
+
+  /** A rotation's levels for `slots` slots, `perStage` to a register stage (one stage with no level
+    * for one slot). */
+  def groupsOfLevels(slots: Int, perStage: Int): Seq[Seq[Int]] = {
+    val g = Rotate.levels(slots).grouped(perStage).toSeq
+    if (g.isEmpty) Seq(Seq.empty) else g
+  }
+
+  /** Registers of a rotation of `slots` slots, `perStage` levels to a stage. */
+  def stages(slots: Int, perStage: Int): Int = groupsOfLevels(slots, perStage).size
+}
