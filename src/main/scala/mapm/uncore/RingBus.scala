@@ -3,6 +3,7 @@ package mapm.uncore
 import chisel3._
 import chisel3.util._
 import mapm.params.{MapmParams, SoGroup}
+import mapm.memory.RegFifo
 import mapm.util.{Index, Rotate}
 
 /** A group waiting at the ring bus's input, with its SOs per SOM lane (computed once, on the way in). */
@@ -50,7 +51,7 @@ class RingBus(p: MapmParams) extends Module {
 
   // Each TSM's groups wait in a two-entry queue: its ready and its head are registers.
   private val heads = io.in.map { in =>
-    val q = Module(new Queue(new RingEntry(p), 2))
+    val q = Module(new RegFifo(new RingEntry(p), 2))
     q.io.enq.valid := in.valid
     q.io.enq.bits.group := in.bits
     q.io.enq.bits.need := VecInit(SoGroup.needs(in.bits, a))
@@ -63,20 +64,21 @@ class RingBus(p: MapmParams) extends Module {
 
   // A rotation of `v` by `by` with a register after every LevelsPerStage levels and after the last.
   private def pipelined[T <: Data](v: Seq[T], by: UInt, back: Boolean, perStage: Int)(reg: T => T): Seq[T] = {
-    val (out, _) = RingBus.groupsOfLevels(slots, perStage).foldLeft((v, by)) { case ((cur, amt), levels) =>
-      (levels.foldLeft(cur)((c, b) => Rotate.level(c, amt, b, back)).map(reg), RegNext(amt))
+    val stages = RingBus.groupsOfLevels(slots, perStage)
+    // The amount's bits that later stages still use travel with the data, one register a stage.
+    val (out, _) = stages.zipWithIndex.foldLeft((v, stages.flatten.map(b => b -> by(b)).toMap)) { case ((cur, amt), (levels, i)) =>
+      val rotated = levels.foldLeft(cur)((c, b) => Rotate.level(c, amt(b), b, back)).map(reg)
+      (rotated, stages.drop(i + 1).flatten.map(b => b -> RegNext(amt(b))).toMap)
     }
     out
   }
 
-  // Returned credits. seen = free one cycle late; acc = seen less what the SOM took, one cycle late;
-  // seen - acc is what the lane's free count grew by besides the group the SOM took two cycles ago.
+  // Returned credits: acc = the lanes' free counts less what the SOM took, one cycle late, so
+  // free - acc is what each lane's free count grew by besides the group the SOM took last cycle.
   private val zeroLanes = VecInit(Seq.fill(s)(VecInit(Seq.fill(a)(0.U(w.W)))))
-  private val seen = RegNext(io.free, zeroLanes)
   private val took = Wire(Vec(s, Vec(a, UInt(w.W))))
-  private val tookBefore = RegNext(took, zeroLanes)
-  private val acc = RegNext(VecInit(seen.zip(tookBefore).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }), zeroLanes)
-  private val grew = seen.zip(acc).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }
+  private val acc = RegNext(VecInit(io.free.zip(took).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }), zeroLanes)
+  private val grew = io.free.zip(acc).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }
   // Credits are narrow: their rotation takes ReturnLevelsPerStage levels a stage. The token that
   // slot k holds `returnLatency` cycles from now is SOM (k + r + returnLatency) mod slots's.
   val returnLatency: Int = RingBus.stages(slots, RingBus.ReturnLevelsPerStage)
@@ -154,9 +156,9 @@ object RingBus {
   /** Bits of a group's SOs for one lane (at most [[SoGroup.Size]]). */
   val needBits: Int = log2Ceil(SoGroup.Size + 1)
 
-  /** Select levels between two registers of the groups' rotation (two: a 300-bit group's select
-    * and its fan-out in about a third of a 3 ns cycle on OSU 0.18 um). */
-  val LevelsPerStage = 2
+  /** Select levels between two registers of the groups' rotation: four, so that up to 16 slots
+    * take one cycle from grant to SOM. */
+  val LevelsPerStage = 4
 
   /** Select levels between two registers of the credits' rotation (a few bits a slot). */
   val ReturnLevelsPerStage = 4
