@@ -8,6 +8,7 @@ import mainargs.{ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.model.Parallel
 import mapm.numerics.FloatFormat
+import Args.SoBusReader
 
 /** `mapm stress`: the whole MAPM's RTL under many random memory systems. For each configuration
   * (TSM/SOM/SOA, optionally `:format`) and each seed, the harness runs a small frame with the
@@ -49,7 +50,8 @@ object StressCommand extends Command {
       @arg(doc = "output folder") out: String = "out",
       @arg(doc = "worker threads of the model") threads: Int = Parallel.defaultThreads,
       @arg(name = "sop-l2-banks", doc = "SOP L2 banks of every configuration: 1 is one shared cache (Table 4.2's), 2 .. 64 address-interleaved banks (docs/uncore.md)") sopL2Banks: Option[Int] = None,
-      @arg(doc = "stress the coprocessor (docs/coprocessor.md): its frame buffer must equal the model's in every run") coproc: mainargs.Flag = mainargs.Flag()
+      @arg(doc = "stress the coprocessor (docs/coprocessor.md): its frame buffer must equal the model's in every run") coproc: mainargs.Flag = mainargs.Flag(),
+      @arg(name = "so-bus", doc = "Data bus of every configuration: ring or serial (docs/mapm.md)") soBus: Option[mapm.params.SoBus] = None
   ): Int = {
     MapmError.check(seeds >= 1 && seeds <= 1000000, s"stress: --seeds must be 1..1000000, got $seeds")
     MapmError.check(firstSeed >= 0, s"stress: --first-seed must be at least 0, got $firstSeed")
@@ -57,7 +59,7 @@ object StressCommand extends Command {
     val entries = parseEntries(configs)
     MapmError.check(entries.nonEmpty, "stress: no configurations given")
     sopL2Banks.foreach(mapm.pipeline.Configure.l2Structure("sop-l2-banks", _)) // a bad count fails before any work
-    val tuning = mapm.pipeline.Tuning(sopL2Banks = sopL2Banks, coproc = coproc.value)
+    val tuning = mapm.pipeline.Tuning(sopL2Banks = sopL2Banks, coproc = coproc.value, soBus = soBus)
     Stress.run(scene, entries, g, seeds, firstSeed, maxCycles, Paths.get(out), threads, tuning)
     0
   }

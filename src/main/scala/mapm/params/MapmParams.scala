@@ -341,8 +341,9 @@ final case class MapmParams(
     val conv = if (numbers.arith == Arith.Conventional) "_conv" else ""
     val timing = if (sim.fidelity == Fidelity.Timing) "_timing" else ""
     val gate = if (clocking.soaClockGate) "" else "_nocg"
+    val bus = if (uncore.soBus == SoBus.Serial) "" else s"_${uncore.soBus.name}"
     def banks(l2: L2Structure, tag: String) = l2 match { case L2Structure.Shared => ""; case L2Structure.Banked(n) => s"_$tag$n" }
-    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate${banks(uncore.sopL2, "b")}${banks(uncore.tsL2, "tb")}"
+    s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate${banks(uncore.sopL2, "b")}${banks(uncore.tsL2, "tb")}$bus"
   }
 }
 

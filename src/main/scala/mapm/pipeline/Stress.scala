@@ -36,6 +36,7 @@ object Stress {
   def renderCommand(scene: String, e: Entry, g: Int, o: Harness.RunOptions, waveStart: Long, waveEnd: Long, tuning: Tuning = Tuning()): String =
     (Seq("tools/mapm", "render", "--scene", scene, "--tsm", e.tsm.toString, "--som", e.som.toString, "--soa", e.soa.toString, "--g", g.toString) ++
       e.format.toSeq.flatMap(f => Seq("--format", f.name)) ++ tuning.sopL2Banks.toSeq.flatMap(b => Seq("--sop-l2-banks", b.toString)) ++
+      tuning.soBus.toSeq.flatMap(b => Seq("--so-bus", b.name)) ++
       (if (tuning.coproc) Seq.empty else Seq("--bare")) ++ // render's default is the coprocessor
       Seq("--query-order", "host") ++ // the campaign's images stream the queries in the host's order
       o.args.grouped(2).filterNot(kv => kv.head == "--max-cycles" || kv.head == "--clock-ghz").flatten ++
@@ -45,7 +46,7 @@ object Stress {
   /** Runs `seeds` seeds from `firstSeed` of each entry on `scene` with `g` guard digits, failing a
     * run not finished after `maxCycles`; writes `stress.csv` (a row per run) into `outDir` and
     * prints a line per entry and the total. The model side runs once per format, with `threads`
-    * worker threads; every configuration takes the SOP L2 structure of `tuning`. Fails
+    * worker threads; every configuration takes the SOP L2 structure and the Data bus of `tuning`. Fails
     * ([[MapmError]]) at the first failing run. */
   def run(scene: String, entries: Seq[Entry], g: Int, seeds: Int, firstSeed: Long, maxCycles: Long, outDir: Path, threads: Int,
           tuning: Tuning = Tuning()): Unit = {

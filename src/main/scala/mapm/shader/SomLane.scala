@@ -45,7 +45,9 @@ class SomLane(p: MapmParams) extends Module {
     val insert = Input(Vec(SoGroup.Size, Valid(new SoOp(p))))
     val free = Output(UInt(log2Ceil(n + 1).W))
     /** Results the consumer of `out` can still take (at most [[SomLane.resultFifo]]): the lane
-      * takes new SOs only while those in its reservation station and its SOA fit in it. */
+      * takes new SOs only while those in its reservation station and its SOA fit in it. It may
+      * fall only by the results the lane sends (the ring Data bus's credits rely on `free`
+      * falling only by the SOs inserted). */
     val room = Input(UInt(log2Ceil(SomLane.resultFifo(p) + 1).W))
     val mem = new MemPort(l1Config.down)
     val out = Valid(new SoResult(p))

@@ -43,7 +43,7 @@ class Contribution(p: MapmParams) extends Bundle {
   * (fault `pixel`).
   *
   * `clear` zeroes the pass's pixels (one row of every bank a cycle: pixelCount / banks cycles;
-  * `ready` is low and `room` zero meanwhile). `read` reads a pixel's entry for the writer (`readOut` the next cycle); it is for
+  * `ready` is low meanwhile and the FIFOs hold the pass's first results). `read` reads a pixel's entry for the writer (`readOut` the next cycle); it is for
   * when the accumulator is `idle`.
   *
   * Latency: log2(ports) + 3 cycles from a result to its pixel's entry when nothing waits.
@@ -102,7 +102,9 @@ class FrameAccumulator(p: MapmParams) extends Module {
     f.io.enq.bits.range := conv.map(_.io.range).reduce(_ || _)
     when(r.valid && r.bits.cond && !inPass) { pixelOut := true.B }
     when(f.io.enq.valid && !f.io.enq.ready) { overflow := true.B }
-    io.room(l) := Mux(clearing, 0.U, depth.U - f.io.count)
+    // The FIFO's free entries, also while clearing (its results wait for the clear): a lane's room
+    // falls only by the results it sends, as the ring Data bus's credits need (RingBus).
+    io.room(l) := depth.U - f.io.count
   }
   when(pixelOut) { faults.pixel := true.B }
 

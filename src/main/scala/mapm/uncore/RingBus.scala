@@ -13,27 +13,29 @@ class RingEntry(p: MapmParams) extends Bundle {
 }
 
 /** The staged Data bus (docs/mapm.md, "The ring bus"): hands the TSMs' SO groups to SOMs with room
-  * for them through a ring of credit tokens and a pipelined rotation, every stage registered.
+  * for them through a ring of credit tokens and a registered rotation.
   *
   * Slots 0 .. N-1 (N = max(TSMs, SOMs)) sit on a ring; TSM i is at slot i. Each SOM owns one token,
   * its lanes' credits, and every cycle every token moves one slot down (slot k to k - 1 mod N), so
-  * that slot k holds SOM (k + r) mod N's token in the cycle where the rotation counter r is r. A
-  * TSM compares its waiting group's SOs per lane with the token before it and, if they fit, takes
-  * them off the token and sends the group; the group reaches its SOM through a barrel rotation by
-  * r with a register after every [[RingBus.LevelsPerStage]] select levels and at its end. Each
-  * SOM's lanes' free counts are registered where they come in; what they grew by besides the
-  * groups the SOM took (entries it issued or the consumer's room) returns to its token through a
-  * rotation of the same kind. A token's credits plus its groups in flight never exceed its lanes'
-  * free entries, so a SOM takes every group that reaches it.
+  * that slot k holds SOM (k + r) mod N's token while the rotation counter `r` stands at r. TSM i
+  * takes the token at slot i, or, when TSM i + 1 does not, the one at slot i + 1, if its waiting
+  * group's SOs per lane fit the token's credits; it takes them off and the group reaches its SOM
+  * through a barrel rotation by r, registered after every [[RingBus.LevelsPerStage]] select levels
+  * and at its end. What each SOM lane's free count grew by besides the group the SOM took (entries
+  * it issued, or the consumer's room) returns to its token through a rotation of the same kind. A
+  * lane's free count falls only by the groups it takes, so a token's credits plus its groups in
+  * flight never exceed its lanes' free entries: a SOM takes every group that reaches it.
   *
-  * Fairness: a TSM whose group no token took for N cycles reserves the next unreserved token that
-  * passes it; no other TSM takes from that token, and the TSM takes nothing but it, until it fits.
-  * With TSMs <= SOMs some token is always unreserved, so a group waits at most 3N cycles plus
-  * the time its reserved SOM takes to free the entries (docs/mapm.md).
+  * Fairness: a TSM whose group no token took for N cycles reserves its own token when nobody
+  * holds it; no other TSM takes from that token, and the TSM from no other, until the group fits.
+  * With TSMs <= SOMs a group waits at most 3N + F + 2 [[latency]] + 4 cycles at the head of its
+  * queue, F the time the reserved SOM takes to free what the group needs (docs/mapm.md).
   *
-  * Latency: a group's input queue (one cycle), then [[latency]] cycles from its grant to its SOM.
-  * Throughput: one group a cycle per TSM and per SOM, at most N a cycle in all. Logic: N log N
-  * selects of a group, N tokens of a x log2(RS + 1) bits; no path longer than two select levels.
+  * Latency: a group's input queue (one cycle), then [[latency]] cycles from its grant to its SOM;
+  * a lane's freed entry is back in its token [[returnLatency]] + 1 cycles later. Throughput: one
+  * group a cycle per TSM and per SOM. Logic: N log N two-way selects of a group, N tokens of
+  * a x log2(RS + 1) bits; no path through more than four select levels, and none from a SOM lane
+  * to a TSM in one cycle (the queue's ready and head are registers).
   */
 class RingBus(p: MapmParams) extends Module {
   private val t = p.counts.tsm
@@ -63,11 +65,12 @@ class RingBus(p: MapmParams) extends Module {
   r := Index.next(r, slots)
 
   // A rotation of `v` by `by` with a register after every LevelsPerStage levels and after the last.
-  private def pipelined[T <: Data](v: Seq[T], by: UInt, back: Boolean, perStage: Int)(reg: T => T): Seq[T] = {
+  private def pipelined[T <: Data](v: Seq[T], by: UInt, back: Boolean, perStage: Int, registerLast: Boolean)(reg: T => T): Seq[T] = {
     val stages = RingBus.groupsOfLevels(slots, perStage)
     // The amount's bits that later stages still use travel with the data, one register a stage.
     val (out, _) = stages.zipWithIndex.foldLeft((v, stages.flatten.map(b => b -> by(b)).toMap)) { case ((cur, amt), (levels, i)) =>
-      val rotated = levels.foldLeft(cur)((c, b) => Rotate.level(c, amt(b), b, back)).map(reg)
+      val rotated0 = levels.foldLeft(cur)((c, b) => Rotate.level(c, amt(b), b, back))
+      val rotated = if (i < stages.size - 1 || registerLast) rotated0.map(reg) else rotated0
       (rotated, stages.drop(i + 1).flatten.map(b => b -> RegNext(amt(b))).toMap)
     }
     out
@@ -79,12 +82,15 @@ class RingBus(p: MapmParams) extends Module {
   private val took = Wire(Vec(s, Vec(a, UInt(w.W))))
   private val acc = RegNext(VecInit(io.free.zip(took).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }), zeroLanes)
   private val grew = io.free.zip(acc).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }
-  // Credits are narrow: their rotation takes ReturnLevelsPerStage levels a stage. The token that
-  // slot k holds `returnLatency` cycles from now is SOM (k + r + returnLatency) mod slots's.
-  val returnLatency: Int = RingBus.stages(slots, RingBus.ReturnLevelsPerStage)
+  for ((f, k) <- io.free.zip(acc); (x, y) <- f.zip(k))
+    assert(x >= y, "ring Data bus: a SOM lane's free count fell by more than the SOs it took")
+  // Credits are narrow: their rotation takes ReturnLevelsPerStage levels a stage, the last one
+  // straight into the tokens. The token that slot k holds `returnLatency` cycles from now is SOM
+  // (k + r + returnLatency) mod slots's.
+  val returnLatency: Int = RingBus.stages(slots, RingBus.ReturnLevelsPerStage) - 1
   val rRet = RegInit((returnLatency % slots).U(Index.bits(slots).W))
   rRet := Index.next(rRet, slots)
-  private val back = pipelined(grew ++ Seq.fill(slots - s)(VecInit(Seq.fill(a)(0.U(w.W)))), rRet, back = false, RingBus.ReturnLevelsPerStage)(
+  private val back = pipelined(grew ++ Seq.fill(slots - s)(VecInit(Seq.fill(a)(0.U(w.W)))), rRet, back = false, RingBus.ReturnLevelsPerStage, registerLast = false)(
     x => RegNext(x, VecInit(Seq.fill(a)(0.U(w.W)))))
 
   // The tokens, their reservations and each TSM's wait.
@@ -139,7 +145,7 @@ class RingBus(p: MapmParams) extends Module {
   }
 
   // Granted groups to their SOMs: slot k's group goes to SOM (k + r) mod slots.
-  private val arrive = pipelined(offers, r, back = true, RingBus.LevelsPerStage) { x =>
+  private val arrive = pipelined(offers, r, back = true, RingBus.LevelsPerStage, registerLast = true) { x =>
     val y = Wire(Valid(new RingEntry(p)))
     y.valid := RegNext(x.valid, false.B)
     y.bits := RegNext(x.bits)

@@ -21,13 +21,15 @@ class UncoreCounters extends Bundle {
   *  - the memory arbiter ([[MemArbiter]]) in front of the memory port, over the TS L2's banks, the
   *    SOQ cache and the SOP L2's banks ([[Shapes.memClients]]), with at most
   *    `memory.maxOutstanding` requests in flight;
-  *  - the [[DataBus]], which hands the TSMs' SO groups to SOMs with room for them.
+  *  - the Data bus, which hands the TSMs' SO groups to SOMs with room for them: the dissertation's
+  *    [[DataBus]] or the staged [[RingBus]], as `p.uncore.soBus` says.
   *
   * The blocks own their L1s ([[mapm.tsearch.TsBlock]]: TS L1s and the SOQ cache;
   * [[mapm.shader.SoBlock]]: the SOP L1 banks) and see the uncore only through typed ports whose
   * shapes come from [[Shapes]]. `idle` is high while no memory request is outstanding.
   *
-  * Latency: the Data bus none (combinational); an L2 hit that of [[L2]]; the memory arbiter none.
+  * Latency: the serial Data bus none (combinational), the ring bus [[RingBus]]'s; an L2 hit that of
+  * [[L2]]; the memory arbiter none.
   * Throughput: one request a cycle per L2 bank, one request a cycle on the memory port,
   * min(TSMs, SOMs) SO groups a cycle on the Data bus.
   */

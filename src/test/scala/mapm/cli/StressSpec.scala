@@ -37,6 +37,11 @@ class StressSpec extends AnyFunSuite {
     val banked = mapm.pipeline.Stress.renderCommand("s.json", StressCommand.parseEntries("3/3/2").head, 3, mapm.pipeline.Stress.draw(4, 1000000),
       0, 1, mapm.pipeline.Tuning(sopL2Banks = Some(8)))
     assert(banked.contains(" --tsm 3 --som 3 --soa 2 --g 3 --sop-l2-banks 8 "), banked)
+    // A ring-bus run replays on the ring bus; an unknown bus is one clear error.
+    val ring = mapm.pipeline.Stress.renderCommand("s.json", StressCommand.parseEntries("3/3/2").head, 3, mapm.pipeline.Stress.draw(4, 1000000),
+      0, 1, mapm.pipeline.Tuning(soBus = Some(mapm.params.SoBus.Ring)))
+    assert(ring.contains(" --so-bus ring "), ring)
+    assert(intercept[MapmError](StressCommand.run(Seq("--so-bus", "crossbar"))).getMessage.contains("Data bus must be ring or serial, got 'crossbar'"))
     assert(intercept[MapmError](StressCommand.run(Seq("--sop-l2-banks", "3"))).getMessage.contains("--sop-l2-banks"))
   }
 

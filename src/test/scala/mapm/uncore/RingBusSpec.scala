@@ -151,4 +151,16 @@ class RingBusSpec extends AnyFunSuite with Sim {
     val longest = run(ring(3, 3, 1), groups, rnd, offerRate = 1.0, drain = Some(6))
     info(s"longest wait at a queue's head: $longest cycles")
   }
+
+  test("a SOM lane whose free count falls by more than it took trips the ring bus's assertion") {
+    val caught = intercept[chiseltest.ChiselAssertionError] {
+      simulate(new RingBus(ring(2, 2, 1))) { c =>
+        for (j <- 0 until 2) c.io.free(j)(0).poke(4.U)
+        c.clock.step(3)
+        c.io.free(1)(0).poke(1.U) // nothing was handed over: the lane may not lose entries
+        c.clock.step(2)
+      }
+    }
+    assert(caught.getMessage.contains("An assertion in RingBus_t2_s2_a1"), caught.getMessage)
+  }
 }
