@@ -167,14 +167,19 @@ object L2Structure {
 }
 
 /** How the Data bus hands the TSMs' SO groups to the SOMs (mapm.uncore, docs/mapm.md). */
-sealed abstract class SoBus(name: String) extends mapm.Choice(name)
+sealed abstract class SoBus(name: String) extends mapm.Choice(name) {
+  /** Reservation-station entries per SOA that a configuration left at its default gets on top of
+    * it, to cover the cycles between a group's grant and its SOM and between an entry's issue and
+    * its credit (docs/mapm.md, "The ring bus"). */
+  def extraRsPerSoa: Int
+}
 object SoBus extends mapm.Choices[SoBus] {
   /** The dissertation's (3.2): in one cycle, the groups claim SOMs with room one TSM after another
     * (t x s logic, a combinational path from a SOM lane's free count to a TSM's stall). */
-  case object Serial extends SoBus("serial")
+  case object Serial extends SoBus("serial") { val extraRsPerSoa = 0 }
   /** A ring of credit tokens and a registered rotation (N log N logic, N = max(t, s); every stage
-    * registered; a group reaches its SOM a few cycles after its grant). */
-  case object Ring extends SoBus("ring")
+    * registered; a group reaches its SOM a cycle after its grant). */
+  case object Ring extends SoBus("ring") { val extraRsPerSoa = 2 }
   val all: Seq[SoBus] = Seq(Ring, Serial)
   protected def unknown(s: String): String = s"Data bus must be ${all.mkString(" or ")}, got '$s'"
 }

@@ -130,6 +130,7 @@ object Configure {
       val c = base.caches
       val t = tuning
       val sopL2 = fit("sop-l2", c.sopL2, t.sopL2, 0)
+      val bus = t.soBus.getOrElse(h.uncore(base.counts, sopL2).soBus)
       base.copy(
         numbers = NumberParams(format, g, arith = arith),
         memory = base.memory.copy(layout = layout, maxOutstanding = t.memOutstanding.getOrElse(base.memory.maxOutstanding)),
@@ -141,13 +142,13 @@ object Configure {
           // The hierarchy's L2 structures for the SOP L2 as given, each bank count given in their place.
           val u = h.uncore(base.counts, sopL2)
           u.copy(tsL2 = t.tsL2Banks.map(l2Structure("ts-l2-banks", _)).getOrElse(u.tsL2),
-            sopL2 = t.sopL2Banks.map(l2Structure("sop-l2-banks", _)).getOrElse(u.sopL2), soBus = t.soBus.getOrElse(u.soBus))
+            sopL2 = t.sopL2Banks.map(l2Structure("sop-l2-banks", _)).getOrElse(u.sopL2), soBus = bus)
         },
         caches = CachesParams(tsL1 = fit("ts-l1", h.tsL1, t.tsL1, r.node.bytes), tsL2 = fit("ts-l2", c.tsL2, t.tsL2, 0),
           soq = fit("soq", h.soq, t.soq, r.queryHwBytes), sopL1 = fit("sop-l1", c.sopL1, t.sopL1, r.photon.bytes),
           sopL2 = sopL2),
         queues = base.queues.copy(registerQueueDepth = t.registerQueueDepth.getOrElse(base.queues.registerQueueDepth),
-          rsEntries = t.rsEntries.getOrElse(base.queues.rsEntries)))
+          rsEntries = t.rsEntries.getOrElse(base.queues.rsEntries + bus.extraRsPerSoa * soa)))
     } catch {
       case e: IllegalArgumentException => mapm.MapmError.fail(s"configuration ${tsm}/${som}/${soa} ${format.name}: ${e.getMessage.stripPrefix("requirement failed: ")}")
     }

@@ -60,4 +60,16 @@ class ConfigureSpec extends AnyFunSuite {
       tuning = Tuning(sopL2 = CacheSpec.parse("4K/64/16"), sopL2Banks = Some(8))))
     assert(few.getMessage.contains("cannot be split into 8 banks"), few.getMessage)
   }
+
+  test("--so-bus: serial by default; the ring bus brings two more reservation-station entries a SOA unless --rs-entries says") {
+    import mapm.params.SoBus
+    val serial = Configure.of(16, 16, 2, FloatFormat.fp32, 3)
+    assert(serial.uncore.soBus == SoBus.Serial && serial.queues.rsEntries == 16)
+    val ring = Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(soBus = Some(SoBus.Ring)))
+    assert(ring.uncore.soBus == SoBus.Ring && ring.queues.rsEntries == 20 && ring.rsPerSoa == 10)
+    assert(Configure.of(3, 2, 3, FloatFormat.fp32, 3, tuning = Tuning(soBus = Some(SoBus.Ring))).rsPerSoa == 10)
+    assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(soBus = Some(SoBus.Ring), rsEntries = Some(16))).queues.rsEntries == 16)
+    assert(ring.name.endsWith("_ring") && !serial.name.contains("ring"))
+  }
 }
+
