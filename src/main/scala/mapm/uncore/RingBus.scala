@@ -61,10 +61,11 @@ class RingBus(p: MapmParams) extends Module {
     q.io.deq
   }
 
-  val r = RegInit(0.U(Index.bits(slots).W))
+  private val r = RegInit(0.U(Index.bits(slots).W))
   r := Index.next(r, slots)
 
-  // A rotation of `v` by `by` with a register after every LevelsPerStage levels and after the last.
+  // A rotation of `v` by `by` with a register after every `perStage` levels and, if
+  // `registerLast`, after the last.
   private def pipelined[T <: Data](v: Seq[T], by: UInt, back: Boolean, perStage: Int, registerLast: Boolean)(reg: T => T): Seq[T] = {
     val stages = RingBus.groupsOfLevels(slots, perStage)
     // The amount's bits that later stages still use travel with the data, one register a stage.
@@ -88,18 +89,18 @@ class RingBus(p: MapmParams) extends Module {
   // straight into the tokens. The token that slot k holds `returnLatency` cycles from now is SOM
   // (k + r + returnLatency) mod slots's.
   val returnLatency: Int = RingBus.stages(slots, RingBus.ReturnLevelsPerStage) - 1
-  val rRet = RegInit((returnLatency % slots).U(Index.bits(slots).W))
+  private val rRet = RegInit((returnLatency % slots).U(Index.bits(slots).W))
   rRet := Index.next(rRet, slots)
   private val back = pipelined(grew ++ Seq.fill(slots - s)(VecInit(Seq.fill(a)(0.U(w.W)))), rRet, back = false, RingBus.ReturnLevelsPerStage, registerLast = false)(
     x => RegNext(x, VecInit(Seq.fill(a)(0.U(w.W)))))
 
   // The tokens, their reservations and each TSM's wait.
   private val noResv = 0.U.asTypeOf(Valid(UInt(Index.bits(t).W)))
-  val credit = RegInit(VecInit(Seq.fill(slots)(VecInit(Seq.fill(a)(0.U(w.W))))))
-  val real = RegInit(VecInit(Seq.tabulate(slots)(k => (k < s).B)))
-  val resv = RegInit(VecInit(Seq.fill(slots)(noResv)))
-  val holds = RegInit(VecInit(Seq.fill(t)(false.B)))
-  val waited = RegInit(VecInit(Seq.fill(t)(0.U(log2Ceil(slots + 1).W))))
+  private val credit = RegInit(VecInit(Seq.fill(slots)(VecInit(Seq.fill(a)(0.U(w.W))))))
+  private val real = RegInit(VecInit(Seq.tabulate(slots)(k => (k < s).B)))
+  private val resv = RegInit(VecInit(Seq.fill(slots)(noResv)))
+  private val holds = RegInit(VecInit(Seq.fill(t)(false.B)))
+  private val waited = RegInit(VecInit(Seq.fill(t)(0.U(log2Ceil(slots + 1).W))))
 
   // TSM i may take the token at slot i (its own) or, when TSM i + 1 does not take it, the one at
   // slot i + 1 (its next): whether TSM i's group may take the token at slot k.
