@@ -6,7 +6,7 @@ Usage: synth.py --verilog F.sv [F2.sv ...] --top T --lib L.lib --delay-ps D --ab
                 --out DIR [--flatten | --keep M ...] [--blackbox M ...]
 
 Generic synthesis runs once; then the process forks, one child per ABC script, each mapping its own
-copy of the design (in parallel). Each child writes DIR/<script>/netlist.v (for OpenSTA),
+copy of the design (in parallel); a single script maps in the process itself (no second copy). Each child writes DIR/<script>/netlist.v (for OpenSTA),
 netlist.json (for the gate-level simulator) and stat.txt (yosys `stat -liberty`).
 --flatten maps one flat module; --keep keeps the named modules (and the top) as modules and
 flattens everything else into them after generic synthesis, so that ABC maps, buffers and sizes
@@ -133,6 +133,15 @@ def main():
     except Exception as e:
         die(f"yosys failed on {args.top}: {e}")
     log(f"generic synthesis done in {time.time() - t0:.1f} s; mapping with {', '.join(scripts)} ...")
+    if len(scripts) == 1:
+        # One script maps in this process: a forked child would copy, page by page, the design it
+        # rewrites while this process still held the original (twice the memory of a large design).
+        try:
+            mapped(d, args, scripts[0], os.path.join(args.out, scripts[0]))
+        except Exception as e:
+            die(f"yosys failed to map {args.top} with the {scripts[0]} ABC script: {e}")
+        log(f"done in {time.time() - t0:.1f} s")
+        return
     children = []
     for s in scripts:
         pid = os.fork()
