@@ -209,7 +209,8 @@ object Args {
       "--ts-l1" -> s"${geometry(Scalable.tsL1)}; $Table42: ${geometry(Table42.tsL1)}", "--ts-l2" -> geometry(c.tsL2), "--soq" -> s"${geometry(Scalable.soq)}; $Table42: ${geometry(Table42.soq)}",
       "--sop-l1" -> geometry(c.sopL1), "--sop-l2" -> geometry(c.sopL2), "--mem-outstanding" -> one.memory.maxOutstanding.toString,
       "--sop-l2-banks" -> s"one per two SOP L1 banks, $banks16 at 16/16/2; $Table42: 1", "--ts-l2-banks" -> "1",
-      "--query-order" -> s"morton; host with --hierarchy $Table42", "--fidelity" -> mapm.params.Fidelity.Full.name)
+      "--query-order" -> s"morton; host with --hierarchy $Table42", "--fidelity" -> mapm.params.Fidelity.Full.name,
+      "--so-bus" -> mapm.params.SoBus.Serial.name)
   }
 
   /** The hardware sizes `emit`, `render`, `sweep` and `evaluate` share (see [[rtlOptionsParser]] for why here). */

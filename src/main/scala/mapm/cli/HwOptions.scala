@@ -30,7 +30,7 @@ final case class HwOptions(
     @arg(name = "result-fifo", doc = "with --coproc: result FIFO entries per SOA (default the lane's RS entries + its SOA's latency + 32)") resultFifo: Option[Int] = None,
     @arg(name = "stream-lines", doc = "with --coproc: 64-byte lines of the query stream read ahead (default 4)") streamLines: Option[Int] = None,
     @arg(name = "read-stream", doc = "with --coproc: read the query stream although the host wrote the query records in the order to run, so that the stream is the identity (docs/coprocessor.md, QUERY_ORDER)") readStream: mainargs.Flag = mainargs.Flag(),
-    @arg(name = "so-bus", doc = "Data bus: ring (a ring of credit tokens and a registered rotation; every stage registered) or serial (the dissertation's: SOMs claimed one TSM after another in one cycle) (default: the hierarchy's)") soBus: Option[SoBus] = None) {
+    @arg(name = "so-bus", doc = "Data bus: ring (a ring of credit tokens and a registered rotation; every stage registered) or serial (the dissertation's: SOMs claimed one TSM after another in one cycle; docs/mapm.md)") soBus: Option[SoBus] = None) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
     sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value, sopL2Banks, tsL2Banks, hierarchy, coproc.value, frameBanks, resultFifo, streamLines, soBus)
