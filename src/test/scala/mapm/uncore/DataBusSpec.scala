@@ -46,16 +46,7 @@ class DataBusSpec extends AnyFunSuite with Sim {
         assert(cycle < 200 * perTsm * t, "the Data bus stopped making progress")
         val offered = queues.map(q => if (q.nonEmpty && (roomy || rnd.nextDouble() < 0.7)) Some(q.head) else None)
         val free = Seq.fill(s)(Seq.fill(a)(if (roomy) rs else rnd.nextInt(rs + 1) min rnd.nextInt(4)))
-        for (i <- 0 until t) {
-          c.io.in(i).valid.poke(offered(i).isDefined.B)
-          offered(i).foreach { g =>
-            c.io.in(i).bits.query.q.poke(g.id.U)
-            for ((ph, k) <- g.photons.zipWithIndex) {
-              c.io.in(i).bits.photon(k).valid.poke(ph.isDefined.B)
-              c.io.in(i).bits.photon(k).bits.poke(ph.getOrElse(0).U)
-            }
-          }
-        }
+        for (i <- 0 until t) DataBusSpec.offer(c.io.in(i), offered(i).map(g => (g.id, g.photons)))
         for (j <- 0 until s; l <- 0 until a) c.io.free(j)(l).poke(free(j)(l).U)
         val want = reference(offered, free, a, startT, startS)
         for (i <- 0 until t) assert(c.io.in(i).ready.peek().litToBoolean == want.contains(i), s"cycle $cycle: TSM $i ready")
@@ -99,4 +90,17 @@ class DataBusSpec extends AnyFunSuite with Sim {
 object DataBusSpec {
   /** One group: an id (carried as its query index) and up to three photons (None: an empty slot). */
   private final case class Group(id: Int, photons: Seq[Option[Int]])
+
+  /** Drives a Data bus input: valid with the group (its id as the query index, its photons, None an
+    * empty slot), or not valid. Shared with [[RingBusSpec]]. */
+  def offer(port: chisel3.util.DecoupledIO[mapm.params.SoGroup], group: Option[(Int, Seq[Option[Int]])]): Unit = {
+    port.valid.poke(group.isDefined.B)
+    group.foreach { case (id, photons) =>
+      port.bits.query.q.poke(id.U)
+      for ((ph, k) <- photons.zipWithIndex) {
+        port.bits.photon(k).valid.poke(ph.isDefined.B)
+        port.bits.photon(k).bits.poke(ph.getOrElse(0).U)
+      }
+    }
+  }
 }

@@ -47,16 +47,7 @@ class RingBusSpec extends AnyFunSuite with Sim {
         // The lanes' free entries, as the SOMs' lanes would show them this cycle.
         for (j <- 0 until s; l <- 0 until a) c.io.free(j)(l).poke(free(j)(l).U)
         val offered = queues.map(q => if (q.nonEmpty && rnd.nextDouble() < offerRate) Some(q.head) else None)
-        for (i <- 0 until t) {
-          c.io.in(i).valid.poke(offered(i).isDefined.B)
-          offered(i).foreach { g =>
-            c.io.in(i).bits.query.q.poke(g.id.U)
-            for ((ph, k) <- g.photons.zipWithIndex) {
-              c.io.in(i).bits.photon(k).valid.poke(ph.isDefined.B)
-              c.io.in(i).bits.photon(k).bits.poke(ph.getOrElse(0).U)
-            }
-          }
-        }
+        for (i <- 0 until t) DataBusSpec.offer(c.io.in(i), offered(i).map(g => (g.id, g.photons)))
         val took = Array.fill(s, a)(0)
         for (j <- 0 until s if c.io.out(j).valid.peek().litToBoolean) {
           val id = c.io.out(j).bits.query.q.peek().litValue.toInt
