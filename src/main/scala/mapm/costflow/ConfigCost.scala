@@ -7,6 +7,7 @@ import mapm.sim.Emit
 import mapm.params.MapmParams
 import mapm.top.Mapm
 import mapm.util.CostBlock
+import mapm.MapmError
 
 /** The cost of a whole MAPM configuration, two ways side by side (docs/cost.md):
   *
@@ -55,6 +56,21 @@ object ConfigCost {
       "dynamicPowerMw" -> (nSoa * soa.dynamicMwAt(clk) + nTsa * tsa.dynamicMwAt(clk)),
       "leakagePowerMw" -> (nSoa * soa.clocks.head.leakageMw + nTsa * tsa.clocks.head.leakageMw))
 
+  /** The modules method (b) keeps whole (everything else is flattened into them): the MAPM's
+    * blocks (`core`'s children), their parts (TSM, SOM, Query fetch, L2 caches, Data bus,
+    * arbiters) and every cache; when `top` wraps the MAPM (the coprocessor), also the wrapper's
+    * own modules and their parts (stream reader, frame accumulator, its combining network and
+    * FIFOs, ...). Memory arrays are left out: they are black boxes. */
+  private[costflow] def keptModules(hier: Hierarchy, top: String, core: String): Seq[String] = {
+    def below(ms: Seq[String]): Seq[String] =
+      ms.flatMap(m => hier.children.getOrElse(m, Nil)).distinct.filterNot(hier.memories.contains)
+    MapmError.check(top == core || below(Seq(top)).contains(core), s"cost: $top does not instantiate the MAPM $core")
+    val blocks = below(Seq(core))
+    val wrapper = if (top == core) Nil else { val own = below(Seq(top)); own ++ below(own.filterNot(_ == core)) }
+    val caches = hier.children.keys.filter(_.startsWith("ROCache")).toSeq.sorted // kept too: their logic counts as caches
+    (wrapper ++ blocks ++ below(blocks) ++ caches).distinct
+  }
+
   /** Emits `p` for synthesis and synthesizes it once: the blocks, their parts and every cache
     * kept as modules, the SRAM arrays black boxes. */
   private def synthesize(flow: CostFlow, p: MapmParams, dir: Path, log: String => Unit): Synthesized = {
@@ -63,10 +79,7 @@ object ConfigCost {
     val (sv, tags) = CostBlock.collect(Emit.toFile(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true))
     val hier = Hierarchy.parse(new String(Files.readAllBytes(sv), StandardCharsets.UTF_8))
     val mems = hier.memories.keys.toSeq.sorted
-    val blocksOf = hier.children(top).distinct.filterNot(mems.contains)
-    val parts = blocksOf.flatMap(b => hier.children.getOrElse(b, Nil)).distinct.filterNot(mems.contains)
-    val caches = hier.children.keys.filter(_.startsWith("ROCache")).toSeq.sorted // kept too: their logic counts as caches
-    val kept = (blocksOf ++ parts ++ caches).distinct
+    val kept = keptModules(hier, top, s"Mapm_${p.name}")
     log(s"synthesizing $top: ${kept.size} parts and blocks kept whole, ${mems.size} SRAM arrays as black boxes ...")
     val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
     val (syn, synSecs) = SynthesisCache.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),

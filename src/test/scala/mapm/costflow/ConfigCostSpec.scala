@@ -1,0 +1,41 @@
+package mapm.costflow
+
+import mapm.MapmError
+import mapm.cost.Hierarchy
+import org.scalatest.funsuite.AnyFunSuite
+
+/** Which modules method (b) keeps whole: the same MAPM parts whether the MAPM is the top or sits
+  * inside the coprocessor (a level lower), where keeping only two levels under the top had
+  * flattened every TSM, SOM and SOA into its block. */
+class ConfigCostSpec extends AnyFunSuite {
+  private val mapm = Map(
+    "Mapm_x" -> Seq("TsBlock", "SoBlock", "Uncore"),
+    "TsBlock" -> Seq("Tsm", "Tsm", "TsL2"),
+    "Tsm" -> Seq("Tsa", "ROCache_l1"),
+    "Tsa" -> Seq("Stage"),
+    "SoBlock" -> Seq("Som", "Som"),
+    "Som" -> Seq("Soa", "Soa", "mem_8x4"),
+    "Soa" -> Seq("Stage"),
+    "Uncore" -> Seq("DataBus", "ROCache_l2"),
+    "ROCache_l1" -> Seq("mem_8x4"), "ROCache_l2" -> Seq("mem_8x4"))
+  private val mems = Map("mem_8x4" -> (4, 8))
+
+  test("a bare MAPM keeps its blocks, their parts and every cache; not the units or the arrays") {
+    val kept = ConfigCost.keptModules(Hierarchy(mapm, mems), "Mapm_x", "Mapm_x")
+    assert(kept.toSet == Set("TsBlock", "SoBlock", "Uncore", "Tsm", "TsL2", "Som", "DataBus", "ROCache_l1", "ROCache_l2"))
+  }
+
+  test("inside the coprocessor the same MAPM parts are kept, and the wrapper's modules and their parts too") {
+    val coproc = mapm ++ Map("Coproc" -> Seq("Mapm_x", "Reader", "Acc", "mem_8x4"), "Acc" -> Seq("Combiner", "Fifo"),
+      "Combiner" -> Seq("Switch"), "Fifo" -> Seq("mem_8x4"))
+    val kept = ConfigCost.keptModules(Hierarchy(coproc, mems), "Coproc", "Mapm_x")
+    val bare = ConfigCost.keptModules(Hierarchy(mapm, mems), "Mapm_x", "Mapm_x")
+    assert(bare.forall(kept.contains), s"kept $kept")
+    assert(kept.toSet -- bare == Set("Mapm_x", "Reader", "Acc", "Combiner", "Fifo"))
+  }
+
+  test("a top that does not hold the MAPM is an error naming both") {
+    val e = intercept[MapmError](ConfigCost.keptModules(Hierarchy(mapm, mems), "TsBlock", "Mapm_x"))
+    assert(e.getMessage.contains("TsBlock") && e.getMessage.contains("Mapm_x"))
+  }
+}
