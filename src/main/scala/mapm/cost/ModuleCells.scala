@@ -14,7 +14,11 @@ object ModuleCells {
 
   def read(json: Path, lib: Liberty.Library): Map[String, Own] = {
     MapmError.check(Files.isRegularFile(json), s"cost: netlist $json not found")
-    val root = ujson.read(Files.readAllBytes(json))
+    of(ujson.read(Files.readAllBytes(json)), json.toString, lib)
+  }
+
+  /** [[read]] of a netlist already read as JSON (`json` names it in messages). */
+  def of(root: ujson.Value, json: String, lib: Liberty.Library): Map[String, Own] = {
     val modules = root.obj.get("modules").map(_.obj).getOrElse(MapmError.fail(s"$json: not a yosys netlist (no modules)"))
     modules.map { case (name, m) =>
       val cells = m.obj.get("cells").map(_.obj.values.toSeq).getOrElse(Nil).map(_.obj("type").str)

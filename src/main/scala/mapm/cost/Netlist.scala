@@ -141,11 +141,17 @@ object Netlist {
     val json =
       try ujson.read(text)
       catch { case e: ujson.ParsingFailedException => MapmError.fail(s"$source: not JSON: ${e.getMessage}") }
+    fromJson(json, source, top)
+  }
+
+  /** The module `top` (as in [[parse]]) of a yosys netlist already read as JSON; instances of
+    * the types in `blackBoxes` (SRAM arrays) may have multi-bit pins, read one pin a bit. */
+  def fromJson(json: ujson.Value, source: String, top: Option[String] = None, blackBoxes: Set[String] = Set.empty): Netlist = {
     val r = new YosysReader(source)
     val (name, module) = r.topModule(json, top)
     val m = r.obj(module, s"module $name")
     val ports = r.ports(m, name)
-    val cells = r.cells(m, name)
+    val cells = r.cells(m, name, blackBoxes)
     val names = r.netNames(m, name)
     Netlist(name, groupSplitPorts(ports), cells, names, r.netCount)
   }
@@ -218,15 +224,17 @@ object Netlist {
         Port(p, direction, nets, names)
       }
 
-    /** The library-cell instances of module `name`. */
-    def cells(m: mutable.Map[String, ujson.Value], name: String): IndexedSeq[Instance] =
+    /** The instances of module `name`: library cells, and black boxes of the types in
+      * `blackBoxes`, whose multi-bit pins become one pin a bit (`R0_addr[3]`). */
+    def cells(m: mutable.Map[String, ujson.Value], name: String, blackBoxes: Set[String]): IndexedSeq[Instance] =
     obj(m.getOrElse("cells", ujson.Obj()), s"cells of $name").toIndexedSeq.map { case (c, v) =>
         val o = obj(v, s"cell $c")
         val cellType = field(o, "type", s"cell $c").strOpt.getOrElse(bad(s"type of cell $c is not a string"))
         val pins = obj(field(o, "connections", s"cell $c"), s"connections of cell $c").toSeq.flatMap { case (pin, conn) =>
           conn.arrOpt.getOrElse(bad(s"connection $pin of cell $c is not a list")).toSeq match {
-            case Seq()    => None
-            case Seq(bit) => Some(pin -> net(bit, s"cell $c"))
+            case Seq()    => Nil
+            case Seq(bit) => Seq(pin -> net(bit, s"cell $c"))
+            case more if blackBoxes(cellType) => more.zipWithIndex.map { case (bit, k) => s"$pin[$k]" -> net(bit, s"cell $c") }
             case more =>
               MapmError.fail(s"$source: pin $pin of cell $c ($cellType) connects ${more.size} bits; expected a flat netlist of library cells")
           }

@@ -6,7 +6,7 @@ import mapm.cost._
 import mapm.sim.Emit
 import mapm.params.MapmParams
 import mapm.top.Mapm
-import mapm.util.CostBlock
+import mapm.util.{Boundary, CostBlock}
 import mapm.MapmError
 
 /** The cost of a whole MAPM configuration, two ways side by side (docs/cost.md):
@@ -42,7 +42,7 @@ object ConfigCost {
     * synthesis result and its seconds. */
   private final case class Synthesized(top: String, hier: Hierarchy, mems: Seq[String], own: Map[String, ModuleCells.Own],
                                        paths: Seq[Seq[String]], inst: Map[String, Long], result: Synthesis.Result, seconds: Double,
-                                       tags: Map[String, CostBlock]) {
+                                       tags: Map[String, CostBlock], comb: Map[String, Seq[CombPaths.Path]], registered: Set[String]) {
     /** The cost block of the instance at the end of `chain` (the tag its module or the nearest
       * module above it got at elaboration); an untagged module under the top is an error. */
     def block(chain: Seq[String]): String = CostBlock.of(chain, tags).fold(mapm.MapmError.fail, _.name)
@@ -76,7 +76,8 @@ object ConfigCost {
   private def synthesize(flow: CostFlow, p: MapmParams, dir: Path, log: String => Unit): Synthesized = {
     val top = mapm.sim.MapmRtl.topName(p)
     log(s"emitting $top for synthesis ...")
-    val (sv, tags) = CostBlock.collect(Emit.toFile(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true))
+    val ((sv, tags), registered) = Boundary.collect(CostBlock.collect(
+      Emit.toFile(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true)))
     val hier = Hierarchy.parse(new String(Files.readAllBytes(sv), StandardCharsets.UTF_8))
     val mems = hier.memories.keys.toSeq.sorted
     val kept = keptModules(hier, top, s"Mapm_${p.name}")
@@ -84,7 +85,8 @@ object ConfigCost {
     val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
     val (syn, synSecs) = SynthesisCache.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
       flatten = false, blackbox = mems, keep = kept)
-    val own = ModuleCells.read(syn.head.json, flow.library)
+    val json = ujson.read(Files.readAllBytes(syn.head.json))
+    val own = ModuleCells.of(json, syn.head.json.toString, flow.library)
     // Every instance path under the top; a module's instance count is the number of paths ending in it.
     val paths = {
       val out = scala.collection.mutable.ArrayBuffer.empty[Seq[String]]
@@ -92,8 +94,30 @@ object ConfigCost {
       walk(Seq(top)); out.toSeq
     }
     val inst = paths.groupBy(_.last).map { case (m, ps) => m -> ps.size.toLong }
-    Synthesized(top, hier, mems, own, paths, inst, syn.head, synSecs, tags)
+    Synthesized(top, hier, mems, own, paths, inst, syn.head, synSecs, tags, combPaths(json, syn.head.json.toString, own, inst.keySet, flow), registered)
   }
+
+  /** The combinational input-to-output paths of every module in `modules`, each found in its own
+    * cells and through its kept submodules' paths (bottom up; SRAM arrays end a path). */
+  private def combPaths(json: ujson.Value, source: String, own: Map[String, ModuleCells.Own], modules: Set[String],
+                        flow: CostFlow): Map[String, Seq[CombPaths.Path]] = {
+    val memo = scala.collection.mutable.Map.empty[String, Seq[CombPaths.Path]]
+    def of(m: String): Seq[CombPaths.Path] = memo.getOrElse(m, {
+      val kids = own(m).children.distinct
+      val sub = kids.filter(k => own.get(k).exists(o => o.cells > 0 || o.children.nonEmpty)).map(k => k -> of(k)).toMap
+      val r = CombPaths.of(Netlist.fromJson(json, source, Some(m), kids.toSet), flow.library, sub)
+      memo(m) = r
+      r
+    })
+    modules.filter(own.contains).map(m => m -> of(m)).toMap
+  }
+
+  /** The boundary check: every part that states a registered boundary ([[Boundary]]) has no
+    * combinational input-to-output path (configuration inputs aside); a line per violation. */
+  def boundaryViolations(j: ujson.Value): Seq[String] =
+    j("methodB")("boundaries")("modules").arr.toSeq.filter(m => m("registered").bool && m("paths").num > 0).map { m =>
+      s"${m("module").str} must have no combinational input-to-output path but has ${m("paths").num.toLong}, e.g. ${m("examples").arr.head.str}"
+    }
 
   /** OpenSTA's timing and power of every module of `d` at the flow's clocks and `meanActivity`:
     * modules with kept modules inside (the top, the blocks) as shells, the rest whole. */
@@ -148,6 +172,17 @@ object ConfigCost {
       "modules" -> ujson.Arr.from(analyses.map { case (a, _) => ujson.Obj("module" -> a.root, "instances" -> a.instances.toDouble,
         "ownLogicOnly" -> a.shell, "fmaxGHz" -> a.fmaxGHz, "criticalPath" -> a.critical,
         "areaUm2" -> (if (a.shell) own(a.root).areaUm2 else 0.0)) }),
+      "boundaries" -> {
+        val checked = d.comb.toSeq.filter { case (m, _) => m != d.top && !mems.contains(m) && own(m).cells + own(m).children.size > 0 }.sortBy(_._1)
+        ujson.Obj("rule" -> ("combinational input-to-output paths of each kept module, through its own cells and its submodules' paths " +
+          "(SRAM arrays and flip-flops end a path; configuration inputs io_cfg* are static and left out); " +
+          "a module marked registered must have none"),
+          "modules" -> ujson.Arr.from(checked.map { case (m, ps) =>
+            val counted = ps.filter(p => Boundary.counts(p.from))
+            ujson.Obj("module" -> m, "instances" -> d.inst(m).toDouble, "registered" -> d.registered(m), "paths" -> counted.size.toDouble,
+              "examples" -> ujson.Arr.from(counted.take(3).map(p => ujson.Str(p.toString))))
+          }))
+      },
       "sram" -> ujson.Obj("model" -> SramModel.source, "bits" -> sramBits.toDouble,
         "bitsByBlock" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(sramBy.getOrElse(b, 0L).toDouble))),
         "areaMm2" -> SramModel.areaUm2(sramBits) / 1e6, "powerMw" -> ujson.Null,
@@ -195,6 +230,10 @@ object ConfigCost {
     val s = b("sram")
     sb ++= f"    SRAM (not synthesized): ${s("bits").num}%.0f bits, ${s("areaMm2").num}%.3f mm^2 by ${s("model").str}\n"
     sb ++= "    SRAM bits by block: " + s("bitsByBlock").obj.map { case (k, v) => f"$k ${v.num}%.0f" }.mkString(", ") + "\n"
+    val bounds = b("boundaries")("modules").arr
+    sb ++= s"    combinational input-to-output paths: ${bounds.count(_("paths").num > 0)} of ${bounds.size} kept modules have some (" +
+      bounds.filter(_("paths").num > 0).map(m => s"${m("module").str} ${m("paths").num.toLong}").mkString(", ") + ")" +
+      s"; registered parts: ${bounds.filter(_("registered").bool).map(_("module").str).mkString(", ")}\n"
     sb ++= f"    run time: synthesis ${j("seconds")("synthesis").num}%.0f s, timing and power ${j("seconds")("sta").num}%.0f s\n"
     sb.toString
   }

@@ -79,6 +79,7 @@ final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Op
     Files.write(out.resolve("cost.md"), md.getBytes("UTF-8"))
     print(md)
     println(s"wrote ${out.resolve("cost.json")} and cost.md")
+    ConfigCost.boundaryViolations(j).headOption.foreach(v => mapm.MapmError.fail(s"cost: $v (cost.json, methodB.boundaries)"))
     j
   }
 

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import mapm.params.{MapmParams, SoGroup}
 import mapm.memory.RegFifo
-import mapm.util.{Index, Rotate}
+import mapm.util.{Boundary, Index, Rotate}
 
 /** A group waiting at the ring bus's input, with its SOs per SOM lane (computed once, on the way in). */
 class RingEntry(p: MapmParams) extends Bundle {
@@ -45,6 +45,7 @@ class RingBus(p: MapmParams) extends Module {
   private val slots = t max s
   private val w = log2Ceil(n + 1)
   override def desiredName = s"RingBus_t${t}_s${s}_a${a}_r$n"
+  Boundary.registered(this)
 
   val io = IO(new SoBusIO(p))
 

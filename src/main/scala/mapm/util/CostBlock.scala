@@ -1,8 +1,6 @@
 package mapm.util
 
 import chisel3.experimental.BaseModule
-import scala.collection.mutable.ArrayBuffer
-import scala.util.DynamicVariable
 
 /** A block of the cost report (docs/cost.md): every synthesized module's cells count in the block
   * of its nearest tagged ancestor (itself included). */
@@ -20,18 +18,14 @@ object CostBlock {
   /** The blocks in report order. */
   val all: Seq[CostBlock] = Seq(TsBlock, SoBlock, Uncore, Caches, Top, Coproc)
 
-  private val registry = new DynamicVariable[Option[ArrayBuffer[(BaseModule, CostBlock)]]](None)
+  private val tags = new ModuleTags[CostBlock]
 
   /** Tags module `m` (called in its constructor) with `block`, when an elaboration collects tags. */
-  def tag(m: BaseModule, block: CostBlock): Unit = registry.value.foreach(_ += m -> block)
+  def tag(m: BaseModule, block: CostBlock): Unit = tags.tag(m, block)
 
   /** Runs `elaborate` (which elaborates a design) and returns its result with the blocks the
     * design's modules were tagged with, by module name. */
-  def collect[T](elaborate: => T): (T, Map[String, CostBlock]) = {
-    val tags = ArrayBuffer.empty[(BaseModule, CostBlock)]
-    val result = registry.withValue(Some(tags))(elaborate)
-    (result, tags.map { case (m, b) => m.name -> b }.toMap)
-  }
+  def collect[T](elaborate: => T): (T, Map[String, CostBlock]) = tags.collect(elaborate)
 
   /** The block of the module at the end of `chain` (module names from the top down): its nearest
     * tagged ancestor's. A module whose only tagged ancestor is the top, though it is not the top,

@@ -159,7 +159,7 @@ class CostCommandSpec extends AnyFunSuite {
     tools()
     val out = Files.createTempDirectory("mapm-cost-config")
     val (rc, text) = runCost("--tsm", "1", "--som", "1", "--soa", "1", "--format", "5,4", "--stimulus", "random",
-      "--ops", "512", "--clock", "0.05,0.1", "--abc", "buffer", "--out", out.toString)
+      "--ops", "512", "--clock", "0.05,0.1", "--abc", "buffer", "--so-bus", "ring", "--out", out.toString)
     assert(rc == 0 && text.contains("(a) 1 SOAs"), text)
     val j = ujson.read(Files.readAllBytes(out.resolve("cost.json")))
     val soa = ujson.read(Files.readAllBytes(out.resolve("soa").resolve("cost.json")))
@@ -172,7 +172,7 @@ class CostCommandSpec extends AnyFunSuite {
 
     // (b): every module's own cells (this test's Liberty areas) times its instances under the top.
     val b = j("methodB")
-    val top = "Mapm_t1s1a1_e5m4_g3"
+    val top = "Mapm_t1s1a1_e5m4_g3_ring"
     val net = ujson.read(Files.readAllBytes(out.resolve("config").resolve("synth").resolve("buffer").resolve("netlist.json")))("modules").obj
     def cellsOf(m: String): Seq[String] = net(m).obj.get("cells").map(_.obj.values.map(_("type").str).toSeq).getOrElse(Nil)
     def area(m: String): Double = cellsOf(m).map(t => areas.getOrElse(t, if (net.contains(t)) area(t) else fail(s"unknown cell $t"))).sum
@@ -196,6 +196,15 @@ class CostCommandSpec extends AnyFunSuite {
       assert(math.abs(c("dynamicByBlockMw").obj.values.map(_.num).sum - c("dynamicPowerMw").num) < 1e-6 * c("dynamicPowerMw").num)
     }
     assert(Files.isRegularFile(out.resolve("cost.md")))
+    // The boundary check: every kept module checked; the ring bus states a registered boundary and has no path; the
+    // memory arbiter (a combinational round-robin: a request's valid decides the others' ready) has paths.
+    val bounds = b("boundaries")("modules").arr.map(m => m("module").str -> m).toMap
+    val kept = net.keySet.filter(m => m != top && cellsOf(m).nonEmpty && !bits.contains(m) && !areas.contains(m))
+    assert(bounds.keySet == kept.toSet, s"checked ${bounds.keySet}, kept $kept")
+    val ring = bounds.filter(_._1.startsWith("RingBus")).values.toSeq
+    assert(ring.size == 1 && ring.head("registered").bool && ring.head("paths").num == 0)
+    val arb = bounds.filter(_._1.startsWith("MemArbiter")).values
+    assert(arb.nonEmpty && arb.forall(m => !m("registered").bool && m("paths").num > 0))
   }
 
   test("bad input: one-line errors") {

@@ -38,4 +38,13 @@ class ConfigCostSpec extends AnyFunSuite {
     val e = intercept[MapmError](ConfigCost.keptModules(Hierarchy(mapm, mems), "TsBlock", "Mapm_x"))
     assert(e.getMessage.contains("TsBlock") && e.getMessage.contains("Mapm_x"))
   }
+
+  test("the boundary check names each registered part that has a path, and only those") {
+    def m(name: String, registered: Boolean, paths: Int) = ujson.Obj("module" -> name, "registered" -> registered,
+      "paths" -> paths, "examples" -> ujson.Arr.from((1 to paths).map(i => ujson.Str(s"io_a -> io_b$i (io_a -> io_b$i)"))))
+    val j = ujson.Obj("methodB" -> ujson.Obj("boundaries" -> ujson.Obj("modules" ->
+      ujson.Arr(m("Ring", registered = true, 0), m("Arbiter", registered = false, 5), m("Bus", registered = true, 2)))))
+    assert(ConfigCost.boundaryViolations(j) ==
+      Seq("Bus must have no combinational input-to-output path but has 2, e.g. io_a -> io_b1 (io_a -> io_b1)"))
+  }
 }
