@@ -2,13 +2,21 @@ package mapm.memory
 
 import chisel3._
 import chisel3.util._
-import mapm.util.CostBlock
+import mapm.util.{CostBlock, Counters}
 
 /** One set of the tag array: a valid bit and a tag per way, and the set's pseudo-LRU state. */
 class TagRow(cfg: CacheConfig) extends Bundle {
   val valid = UInt(cfg.ways.W)
   val tags = Vec(cfg.ways, UInt(cfg.tagBits.W))
   val plru = UInt(cfg.plruBits.W)
+}
+
+/** A cache's hit and miss this cycle, for counters kept above it. */
+class CacheEvents extends Bundle {
+  /** An access whose line was present or already being refilled. */
+  val hit = Bool()
+  /** An access that allocated a line. */
+  val miss = Bool()
 }
 
 /** Hit, miss and traffic counters of a cache. */
@@ -67,6 +75,7 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
     /** Line refills from the level below (the cache is the requester). */
     val down = new MemPort(cfg.down)
     val counters = Output(new CacheCounters(cfg.counterBits))
+    val events = Output(new CacheEvents)
     /** Sticky: a request was not aligned to the word or asked for more than one beat (the cache
       * served the word holding its address), or a refill beat came that no miss waits for
       * ([[MissTable]]: an unknown id, a duplicate response, `last` on the wrong beat; dropped). */
@@ -197,13 +206,9 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   respQ.io.enq.bits.last := true.B
   io.up.resp <> respQ.io.deq
 
-  val hits = RegInit(0.U(cfg.counterBits.W))
-  val misses = RegInit(0.U(cfg.counterBits.W))
-  val bytes = RegInit(0.U(cfg.counterBits.W))
-  when(s1Done && hit) { hits := hits + 1.U }
-  when(allocGo) { misses := misses + 1.U }
-  when(io.down.resp.fire) { bytes := bytes + cfg.downBytes.U }
-  io.counters.hits := hits
-  io.counters.misses := misses
-  io.counters.bytesFetched := bytes
+  io.events.hit := s1Done && hit
+  io.events.miss := allocGo
+  io.counters.hits := Counters.count(Seq(io.events.hit), cfg.counterBits)
+  io.counters.misses := Counters.count(Seq(io.events.miss), cfg.counterBits)
+  io.counters.bytesFetched := Counters.accumulate(Mux(io.down.resp.fire, cfg.downBytes.U, 0.U), cfg.counterBits)
 }

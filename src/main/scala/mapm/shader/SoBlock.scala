@@ -66,6 +66,6 @@ class SoBlock(p: MapmParams) extends Module {
   import Counters.{count => counter}
   io.counters.soIssued := counter(soms.flatMap(_.io.issued))
   io.counters.soPassed := counter(io.out.map(o => o.valid && o.bits.cond))
-  io.counters.sopL1Hits := Counters.sum(soms.flatMap(_.io.l1.map(_.hits)))
-  io.counters.sopL1Misses := Counters.sum(soms.flatMap(_.io.l1.map(_.misses)))
+  io.counters.sopL1Hits := counter(soms.flatMap(_.io.l1.map(_.hit)))
+  io.counters.sopL1Misses := counter(soms.flatMap(_.io.l1.map(_.miss)))
 }

@@ -3,7 +3,7 @@ package mapm.shader
 import chisel3._
 import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, public}
 import chisel3.util._
-import mapm.memory.{CacheCounters, MemPort}
+import mapm.memory.{CacheEvents, MemPort}
 import mapm.params.{MapmParams, SoGroup, SoResult}
 import mapm.uncore.Shapes
 
@@ -35,7 +35,7 @@ class Som(p: MapmParams) extends Module {
     val out = Vec(a, Valid(new SoResult(p)))
     val issued = Output(Vec(a, Bool()))
     val idle = Output(Bool())
-    val l1 = Output(Vec(a, new CacheCounters(Shapes(p).sopL1.counterBits)))
+    val l1 = Output(Vec(a, new CacheEvents))
     val error = Output(Bool())
   })
 

@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.experimental.hierarchy.{instantiable, public}
 import chisel3.util._
 import mapm.fpu.FpuDepth
-import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
+import mapm.memory.{CacheConfig, CacheEvents, MemPort, ReadOnlyCache}
 import mapm.params.{Fidelity, MapmParams, PhotonRecord, QueryData, Records, Rgb, SoGroup, SoResult}
 import mapm.uncore.Shapes
 import mapm.util.{ClockGate, Index, RoundRobin}
@@ -54,13 +54,13 @@ class SomLane(p: MapmParams) extends Module {
     /** An SO entered the SOA this cycle. */
     val issued = Output(Bool())
     val idle = Output(Bool())
-    val l1 = Output(new CacheCounters(l1Config.counterBits))
+    val l1 = Output(new CacheEvents)
     val error = Output(Bool())
   })
 
   val l1 = Module(new ReadOnlyCache(l1Config))
   io.mem <> l1.io.down
-  io.l1 := l1.io.counters
+  io.l1 := l1.io.events
   val soa: ShaderUnit = {
     val (g, tags, depth) = (p.numbers.guardDigits, p.indices.pixelBits + p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight)))
     p.sim.fidelity match {

@@ -20,7 +20,8 @@ import mapm.util.{CostBlock, Counters}
   * DRAM on `mem` (read only), collects every shader operation's result on `out` (one port per
   * SOA; the results whose cond holds are the colour to add to the query's pixel), and waits for
   * `done` after its last query: every accepted query finished, nothing in flight anywhere, no
-  * memory request outstanding. `error` is sticky (a malformed node record, an invalid TSA input,
+  * memory request outstanding, and the counters settled ([[Mapm.counterSettle]] cycles after the
+  * MAPM fell idle; `counters` are exact from then on). `error` is sticky (a malformed node record, an invalid TSA input,
   * a cache protocol error or a Register-queue overflow; none can happen on a model-built image).
   *
   * Latency: variable (memory, stalls); a query's first SO leaves after about 3 (SOQ) + 4 + TSA +
@@ -62,7 +63,13 @@ class Mapm(val p: MapmParams) extends Module {
   so.io.in := uncore.io.som
   io.mem <> uncore.io.mem
 
-  io.done := ts.io.idle && so.io.idle && uncore.io.idle
+  // Done once idle for as long as the counters trail their events (no event happens while idle,
+  // so the counters read at done are exact; mapm.util.Counters).
+  private val allIdle = ts.io.idle && so.io.idle && uncore.io.idle
+  private val settle = Mapm.counterSettle(p)
+  private val idleFor = RegInit(0.U(log2Ceil(settle + 1).W))
+  idleFor := Mux(!allIdle, 0.U, Mux(idleFor === settle.U, idleFor, idleFor + 1.U))
+  io.done := allIdle && idleFor === settle.U
   val error = RegInit(false.B)
   when(ts.io.error || so.io.error || uncore.io.protocolError) { error := true.B }
   io.error := error
@@ -97,6 +104,10 @@ class Mapm(val p: MapmParams) extends Module {
 }
 
 object Mapm {
+  /** The cycles `done` waits after the MAPM falls idle: the longest any counter trails its events
+    * (the Register-queue peak, a max over the TSMs, or an event count). */
+  def counterSettle(p: MapmParams): Int = math.max(Counters.CountLatency, Counters.maxLatency(p.counts.tsm))
+
   /** The room that never slows a lane: what one lane may have on its way
     * ([[mapm.shader.SomLane.resultFifo]]). */
   def resultRoom(p: MapmParams): Int = mapm.shader.SomLane.resultFifo(p)

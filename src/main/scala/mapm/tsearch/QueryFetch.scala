@@ -2,7 +2,7 @@ package mapm.tsearch
 
 import chisel3._
 import chisel3.util._
-import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
+import mapm.memory.{CacheConfig, CacheEvents, MemPort, ReadOnlyCache}
 import mapm.params.{MapmParams, QueryData, QueryIn, QueryRecord, Records, Rgb}
 import mapm.uncore.Shapes
 import mapm.util.{Index, RoundRobin}
@@ -36,13 +36,13 @@ class QueryFetch(p: MapmParams) extends Module {
     val idle = Output(Bool())
     /** A query is held whose record has not arrived. */
     val waiting = Output(Bool())
-    val soq = Output(new CacheCounters(soqConfig.counterBits))
+    val soq = Output(new CacheEvents)
     val error = Output(Bool())
   })
 
   val soq = Module(new ReadOnlyCache(soqConfig))
   io.mem <> soq.io.down
-  io.soq := soq.io.counters
+  io.soq := soq.io.events
 
   val held = Reg(Vec(n, new QueryData(p)))
   val valid = RegInit(VecInit(Seq.fill(n)(false.B)))

@@ -97,9 +97,9 @@ class TsBlock(p: MapmParams) extends Module {
   io.counters.stallRsFull := counter(tsms.map(_.io.events.stallRsFull))
   io.counters.stallRqFull := counter(tsms.map(_.io.events.stallRqFull))
   io.counters.stallQuery := counter(Seq(fetch.io.waiting && !fetch.io.out.valid && anyWilling))
-  io.counters.tsL1Hits := Counters.sum(tsms.map(_.io.l1.hits))
-  io.counters.tsL1Misses := Counters.sum(tsms.map(_.io.l1.misses))
-  io.counters.soqHits := fetch.io.soq.hits
-  io.counters.soqMisses := fetch.io.soq.misses
-  io.counters.rqPeak := tsms.map(_.io.rqPeak).reduce((a, b) => Mux(a > b, a, b))
+  io.counters.tsL1Hits := counter(tsms.map(_.io.l1.hit))
+  io.counters.tsL1Misses := counter(tsms.map(_.io.l1.miss))
+  io.counters.soqHits := counter(Seq(fetch.io.soq.hit))
+  io.counters.soqMisses := counter(Seq(fetch.io.soq.miss))
+  io.counters.rqPeak := Counters.max(tsms.map(_.io.rqPeak))
 }

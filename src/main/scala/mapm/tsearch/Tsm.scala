@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.experimental.hierarchy.{instantiable, public}
 import chisel3.util._
 import mapm.fpu.FpuDepth
-import mapm.memory.{CacheConfig, CacheCounters, MemPort, ReadOnlyCache}
+import mapm.memory.{CacheConfig, CacheEvents, MemPort, ReadOnlyCache}
 import mapm.params.{MapmParams, NodeRecord, QueryData, Records, SoGroup}
 import mapm.uncore.Shapes
 import mapm.util.{Index, RoundRobin}
@@ -92,13 +92,13 @@ class Tsm(p: MapmParams) extends Module {
     val idle = Output(Bool())
     val error = Output(Bool())
     val events = Output(new TsmEvents)
-    val l1 = Output(new CacheCounters(l1Config.counterBits))
+    val l1 = Output(new CacheEvents)
     val rqPeak = Output(UInt(log2Ceil(depth + 1).W))
   })
 
   val l1 = Module(new ReadOnlyCache(l1Config))
   io.mem <> l1.io.down
-  io.l1 := l1.io.counters
+  io.l1 := l1.io.events
   val stack = Module(new RegisterStack(new TsmOp(p), depth))
   io.rqPeak := stack.io.peak
   private val infoWidth = (new NextnodeInfo(p)).getWidth

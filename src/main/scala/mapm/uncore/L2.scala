@@ -92,6 +92,6 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
   }
 
   io.protocolError := (banks.map(_.io.protocolError) ++ arbs.map(_.io.protocolError)).reduce(_ || _)
-  io.counters.hits := Counters.sum(banks.map(_.io.counters.hits))
-  io.counters.misses := Counters.sum(banks.map(_.io.counters.misses))
+  io.counters.hits := Counters.count(banks.map(_.io.events.hit))
+  io.counters.misses := Counters.count(banks.map(_.io.events.miss))
 }
