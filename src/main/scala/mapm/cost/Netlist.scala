@@ -244,7 +244,7 @@ object Netlist {
 
     /** The named wires of module `name`, with the names of their bits. */
     def netNames(m: mutable.Map[String, ujson.Value], name: String): IndexedSeq[NetName] =
-    obj(m.getOrElse("netnames", ujson.Obj()), s"netnames of $name").toIndexedSeq.map { case (w, v) =>
+    obj(m.get("netnames").filterNot(_.isNull).getOrElse(ujson.Obj()), s"netnames of $name").toIndexedSeq.map { case (w, v) =>
         val o = obj(v, s"netname $w")
         val (nets, bitNames) = bits(o, w)
         NetName(w, nets, bitNames, flag(o, "hide_name"))

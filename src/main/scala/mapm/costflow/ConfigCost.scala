@@ -85,7 +85,7 @@ object ConfigCost {
     val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
     val (syn, synSecs) = SynthesisCache.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
       flatten = false, blackbox = mems, keep = kept)
-    val json = ujson.read(Files.readAllBytes(syn.head.json))
+    val json = YosysJson.read(syn.head.json)
     val own = ModuleCells.of(json, syn.head.json.toString, flow.library)
     // Every instance path under the top; a module's instance count is the number of paths ending in it.
     val paths = {

@@ -148,9 +148,19 @@ class Tsm(p: MapmParams) extends Module {
     slotOp(freeSlot) := op
   }
   l1.io.up.resp.ready := true.B
+  // When its node record arrives, a slot also keeps the query coordinate the TSA compares (by the
+  // record's axis) and whether the record is malformed, so that issue only selects among slots.
+  val slotP = Reg(Vec(ns, UInt(w.W)))
+  val slotBad = Reg(Vec(ns, Bool()))
   when(l1.io.up.resp.fire) {
-    slotReady(l1.io.up.resp.bits.id) := true.B
-    slotRec(l1.io.up.resp.bits.id) := l1.io.up.resp.bits.data
+    val id = l1.io.up.resp.bits.id
+    val r = l1.io.up.resp.bits.data.asTypeOf(new NodeRecord(records.slot, w))
+    val qd = table(slotOp(id).qid)
+    slotReady(id) := true.B
+    slotRec(id) := l1.io.up.resp.bits.data
+    slotP(id) := MuxLookup(r.word.axis, qd.z)(Seq(0.U -> qd.x, 1.U -> qd.y))
+    slotBad(id) := r.word.axis === 3.U || (r.word.hasLeft && slotOp(id).node +& 1.U >= io.cfg.nodeCount) ||
+      (r.word.hasRight && r.word.right >= io.cfg.nodeCount) || r.word.right >= (BigInt(1) << p.indices.nodeBits).U
   }
 
   // Issue into the TSA while the pipeline moves.
@@ -166,10 +176,8 @@ class Tsm(p: MapmParams) extends Module {
   private val rec = slotRec(pick).asTypeOf(new NodeRecord(records.slot, w))
   private val iop = slotOp(pick)
   private val word = rec.word
-  private val axis = word.axis
-  private val q = table(iop.qid)
   tsa.io.in.valid := issue
-  tsa.io.in.bits.p := MuxLookup(axis, q.z)(Seq(0.U -> q.x, 1.U -> q.y))
+  tsa.io.in.bits.p := slotP(pick)
   tsa.io.in.bits.h := io.cfg.h
   tsa.io.in.bits.s := rec.split.value
   private val info = Wire(new NextnodeInfo(p))
@@ -180,8 +188,7 @@ class Tsm(p: MapmParams) extends Module {
   info.leafL := word.leftIsLeaf
   info.leafR := word.rightIsLeaf
   info.right := word.right(p.indices.nodeBits - 1, 0)
-  info.bad := axis === 3.U || (word.hasLeft && iop.node +& 1.U >= io.cfg.nodeCount) ||
-    (word.hasRight && word.right >= io.cfg.nodeCount) || word.right >= (BigInt(1) << p.indices.nodeBits).U
+  info.bad := slotBad(pick)
   tsa.io.in.bits.tag := info.asUInt
 
   // Nextnode at the TSA's output.

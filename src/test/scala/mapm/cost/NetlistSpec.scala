@@ -79,4 +79,24 @@ class NetlistSpec extends AnyFunSuite {
       "bad.json: pin B of cell u1 (NAND2X1) connects 2 bits; expected a flat netlist of library cells")
     assert(message(json.replace("\"bits\": [30]", "\"bits\": [{}]")).startsWith("bad.json: not a yosys netlist: bad bit {} in q"))
   }
+
+  test("a netlist read without its unused keys (YosysJson) gives the same ports and cells, no net names") {
+    val file = java.nio.file.Files.createTempFile("mapm-yosysjson", ".json")
+    java.nio.file.Files.write(file, json.replace("\"cells\": {", "\"parameters\": {\"X\": 1}, \"cells\": {").getBytes("UTF-8"))
+    val j = YosysJson.read(file)
+    val t = j("modules")("T")
+    assert(t("attributes").isNull && t("netnames").isNull && t("parameters").isNull)
+    assert(t("cells")("u1")("connections")("A").arr.map(_.num) == Seq(11.0))
+    val n = Netlist.fromJson(j, "t.json", Some("T"))
+    assert(n.ports == netlist.ports && n.cells == netlist.cells && n.names.isEmpty)
+    assert(intercept[MapmError](YosysJson.read(file.resolveSibling("missing.json"))).getMessage.contains("not found"))
+  }
+
+  test("black boxes' multi-bit pins are read a bit a pin, only when asked") {
+    val bb = json.replace("\"r\": {\"hide_name\": 0, \"type\": \"DFFPOSX1\", \"connections\": {\"CLK\": [10], \"D\": [21], \"Q\": [30]}}",
+      "\"r\": {\"hide_name\": 0, \"type\": \"mem_2x2\", \"connections\": {\"A\": [11, 12], \"Q\": [30]}}")
+    assert(intercept[MapmError](Netlist.parse(bb, "bb.json")).getMessage.contains("connects 2 bits"))
+    val n = Netlist.fromJson(ujson.read(bb), "bb.json", Some("T"), Set("mem_2x2"))
+    assert(n.cells.find(_.name == "r").get.pins == Map("A[0]" -> 3, "A[1]" -> 4, "Q" -> 7))
+  }
 }
