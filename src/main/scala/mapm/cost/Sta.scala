@@ -31,6 +31,11 @@ object Sta {
   }
   final case class Report(clocks: Seq[AtClock], fmaxGHz: Double, seconds: Double)
 
+  /** The transition (ns) given to the clock pins behind a clock gate, standing in for the clock
+    * tree a layout flow would build: one gate output drives them all in the synthesized netlist,
+    * and its slew would put each flip-flop's internal power thousands of times too high. */
+  val GatedClockTransitionNs = 0.1
+
   /** Activity of one pin or input port: transitions per clock cycle and duty (fraction of time 1). */
   final case class Activity(activity: Double, duty: Double)
 
@@ -68,6 +73,17 @@ object Sta {
           |  if {[llength [all_outputs]] > 0} { set_output_delay 0 -clock clk [all_outputs] }
           |}
           |proc mapm_slack {} { return [sta::worst_slack -max] }
+          |# Gated clocks: a clock gate's output drives every register behind it (tens of thousands in a
+          |# SOM) with no clock tree, which layout would build; its loads get a clock tree's transition.
+          |set mapm_gated {}
+          |foreach n [get_nets -quiet -of_objects [all_registers -clock_pins]] {
+          |  set pins [get_pins -quiet -of_objects $$n]
+          |  set driven 0
+          |  foreach p $$pins { if {[get_property $$p direction] == "output"} { set driven 1 } }
+          |  if {$$driven} { foreach p $$pins { if {[get_property $$p direction] == "input"} { lappend mapm_gated $$p } } }
+          |}
+          |if {[llength $$mapm_gated] > 0} { set_assigned_transition ${GatedClockTransitionNs} $$mapm_gated }
+          |puts "MAPM_GATED [llength $$mapm_gated]"
           |mapm_clock ${periods.head}
           |${if (pinActivity.isEmpty && portActivity.isEmpty) s"set_power_activity -global -activity ${defaultActivity.activity} -duty ${defaultActivity.duty}" else ""}
           |set_power_activity -input -activity ${defaultActivity.activity} -duty ${defaultActivity.duty}

@@ -107,6 +107,19 @@ class StaSpec extends AnyFunSuite {
       assert(b.leakageMw == a.leakageMw)
     }
   }
+
+  test("flip-flops behind a clock gate cost about what the same flip-flops on the clock port cost (no 3000x slew)") {
+    val n = 3000
+    def shift(gated: Boolean): Path = write(
+      s"module sr(clock, en, d, q);\n  input clock;\n  input en;\n  input d;\n  output q;\n  wire gclk;\n" +
+        (0 until n).map(i => s"  wire s$i;\n").mkString +
+        (if (gated) "  AND2X2 g (.A(clock), .B(en), .Y(gclk));\n" else "  assign gclk = clock;\n") +
+        (0 until n).map(i => s"  DFFPOSX1 r$i (.CLK(${if (gated) "gclk" else "clock"}), .D(${if (i == 0) "d" else s"s${i - 1}"}), .Q(s$i));\n").mkString +
+        s"  assign q = s${n - 1};\nendmodule\n")
+    val direct = sta(shift(gated = false), "sr", Seq(0.1)).clocks.head.internalMw
+    val behind = sta(shift(gated = true), "sr", Seq(0.1)).clocks.head.internalMw
+    assert(behind > 0.5 * direct && behind < 2 * direct, s"internal power behind the gate $behind mW, on the port $direct mW")
+  }
 }
 
 object StaSpec {
