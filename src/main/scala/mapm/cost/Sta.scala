@@ -76,7 +76,9 @@ object Sta {
           |# Gated clocks: a clock gate's output drives every register behind it (tens of thousands in a
           |# SOM) with no clock tree, which layout would build; its loads get a clock tree's transition.
           |set mapm_gated {}
-          |foreach n [get_nets -quiet -of_objects [all_registers -clock_pins]] {
+          |set mapm_nets [dict create]
+          |foreach n [get_nets -quiet -of_objects [all_registers -clock_pins]] { dict set mapm_nets [get_full_name $$n] $$n }
+          |dict for {name n} $$mapm_nets {
           |  set pins [get_pins -quiet -of_objects $$n]
           |  set driven 0
           |  foreach p $$pins { if {[get_property $$p direction] == "output"} { set driven 1 } }
