@@ -2,7 +2,7 @@ package mapm.uncore
 
 import chisel3._
 import chisel3.util._
-import mapm.memory.{CacheConfig, MemArbiter, MemPort, MemPortParams, MemResp, ReadOnlyCache, RegFifo}
+import mapm.memory.{CacheConfig, MemArbiterTree, MemPort, MemPortParams, MemResp, ReadOnlyCache, RegFifo}
 import mapm.params.L2Structure
 import mapm.util.Counters
 
@@ -18,8 +18,8 @@ class L2Counters extends Bundle {
 /** A second-level cache shared by `clients` L1s (the TS L2 under the TSMs' L1s, the SOP L2 under
   * the SOP L1 banks, 3.2), built as `structure` says:
   *
-  *  - [[L2Structure.Shared]] (Table 4.2's): one [[MemArbiter]] over every L1's miss port in
-  *    front of one [[ReadOnlyCache]], which takes one request a cycle. `mem` has one port.
+  *  - [[L2Structure.Shared]] (Table 4.2's): one arbiter over every L1's miss port in front of
+  *    one [[ReadOnlyCache]], which takes one request a cycle. `mem` has one port.
   *  - [[L2Structure.Banked]]`(n)`: `n` caches of 1/n of the capacity each, line address mod n
   *    choosing the bank, behind a network whose every path is registered (two-entry
   *    [[RegFifo]]s): each L1's request enters a two-entry queue, goes to its bank's arbiter
@@ -28,6 +28,10 @@ class L2Counters extends Bundle {
   *    banks' responses for that L1 in a round-robin arbiter and leave through a last two-entry
   *    queue. No combinational path runs from an L1 through the network to a bank or back. `mem`
   *    has one port per bank.
+  *
+  * Every arbiter over more than eight L1s is a registered tree ([[MemArbiterTree]]: groups of
+  * eight, a two-entry queue after each group's arbiter), so no grant decides among more than
+  * eight requests in a cycle; that adds a cycle to a request from more than eight L1s.
   *
   * Latency: a hit answers in the shared structure 3 cycles after the arbiter takes the request
   * (the cache's own latency), in the banked one 4 cycles later (a register each way on each side
@@ -59,7 +63,7 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
   }
 
   private val banks = Seq.fill(n)(Module(new ReadOnlyCache(bank)))
-  private val arbs = Seq.fill(n)(Module(new MemArbiter(up, clients, maxOutstanding = 4 * clients)))
+  private val arbs = Seq.fill(n)(Module(new MemArbiterTree(up, clients, maxOutstanding = 4 * clients)))
   for (b <- 0 until n) io.mem(b) <> banks(b).io.down
 
   structure match {

@@ -150,4 +150,37 @@ class MemArbiterSpec extends AnyFunSuite with Sim {
       assert(c.io.protocolError.peek().litToBoolean)
     }
   }
+
+  for ((n, fanIn) <- Seq((12, 4), (9, 8), (8, 2)))
+    test(s"a tree of $n ports in groups of $fanIn: every beat routed to its port and id, the limit held, each port served within 2n grants") {
+      simulate(new MemArbiterTree(up, n, 8, fanIn)) { c =>
+        c.clock.setTimeout(0)
+        assert(c.io.down.p == MemArbiter.downParams(Seq.fill(n)(up)), "the flat arbiter's shared port")
+        for (seed <- 0 until 6) {
+          val rnd = new Random(100 + seed)
+          val mem = new MemImage(1 << 12, seed)
+          c.io.up.foreach(_.req.valid.poke(false.B))
+          c.io.down.resp.valid.poke(false.B)
+          MemSim.reset(c.clock, c.reset)
+          val busy = seed % 2 == 1
+          val clients = Seq.tabulate(n)(i => new BurstClient(c.io.up(i), mem, 60,
+            if (busy) 1.0 else 0.2 + 0.8 * rnd.nextDouble(), 0.3 + 0.7 * rnd.nextDouble(), rnd, i))
+          val timing = DramTiming(Seq(3, 40, 300)(seed % 3), 0.3 + 0.7 * rnd.nextDouble(), 0.5 + 0.5 * rnd.nextDouble())
+          val dram = new DramModel(c.io.down, mem, timing, rnd)
+          val grants = () => {
+            if (c.io.down.req.valid.peek().litToBoolean && c.io.down.req.ready.peek().litToBoolean) {
+              val src = (c.io.down.req.bits.id.peek().litValue >> up.idBits).toInt
+              clients.filter(k => k.index != src && k.waiting).foreach(_.othersWhileWaiting += 1)
+            }
+            false
+          }
+          MemSim.run(c.clock, clients.map(k => () => k.drive()) :+ (() => dram.drive()),
+            (grants +: clients.map(k => () => k.observe())) :+ (() => dram.observe()), clients.forall(_.done))
+          val what = s"seed $seed, $timing"
+          assert(dram.requests.size == 60 * n, what)
+          assert(dram.maxOutstanding <= 8, s"${dram.maxOutstanding} in flight, $what")
+          clients.foreach(k => assert(k.worstWait <= 2 * n, s"port ${k.index} saw ${k.worstWait} other grants while waiting, $what"))
+        }
+      }
+    }
 }
