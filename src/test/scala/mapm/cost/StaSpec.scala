@@ -109,7 +109,7 @@ class StaSpec extends AnyFunSuite {
   }
 
   test("flip-flops behind a clock gate cost about what the same flip-flops on the clock port cost (no 3000x slew)") {
-    val n = 3000
+    val n = 1000
     def shift(gated: Boolean): Path = write(
       s"module sr(clock, en, d, q);\n  input clock;\n  input en;\n  input d;\n  output q;\n  wire gclk;\n" +
         (0 until n).map(i => s"  wire s$i;\n").mkString +
