@@ -1,6 +1,5 @@
 package mapm.cost
 
-import java.nio.file.{Files, Path}
 import mapm.MapmError
 
 /** The cells of each module of a hierarchical yosys JSON netlist, by module: its own library
@@ -12,12 +11,7 @@ object ModuleCells {
   final case class Own(module: String, cells: Int, areaUm2: Double, seqAreaUm2: Double, counts: Map[String, Int],
                        children: Seq[String])
 
-  def read(json: Path, lib: Liberty.Library): Map[String, Own] = {
-    MapmError.check(Files.isRegularFile(json), s"cost: netlist $json not found")
-    of(ujson.read(Files.readAllBytes(json)), json.toString, lib)
-  }
-
-  /** [[read]] of a netlist already read as JSON (`json` names it in messages). */
+  /** Each module's own cells in a netlist read as JSON ([[YosysJson]]; `json` names it in messages). */
   def of(root: ujson.Value, json: String, lib: Liberty.Library): Map[String, Own] = {
     val modules = root.obj.get("modules").map(_.obj).getOrElse(MapmError.fail(s"$json: not a yosys netlist (no modules)"))
     modules.map { case (name, m) =>
