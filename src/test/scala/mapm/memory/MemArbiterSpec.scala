@@ -76,6 +76,34 @@ final class BurstClient(port: MemPort, mem: MemImage, count: Int, reqValid: Doub
 class MemArbiterSpec extends AnyFunSuite with Sim {
   private val up = MemPortParams(addressBits = 16, dataBytes = 8, idBits = 2, maxBeats = 4)
 
+  /** One seed's run of `count` bursts from every port of `ups` through an arbiter to a reordering
+    * DRAM: resets, drives the clients and the DRAM until every client is done, counting for each
+    * waiting port the grants to others (by the source bits above `idBits`). Odd seeds keep every
+    * port asking. Returns the clients, the DRAM and whether the seed was a busy one. */
+  private def runSeed(clock: Clock, reset: Reset, ups: Seq[MemPort], down: MemPort, idBits: Int, count: Int, seed: Int,
+                      rnd: Random): (Seq[BurstClient], DramModel, DramTiming, Boolean) = {
+    val mem = new MemImage(1 << 12, seed)
+    ups.foreach(_.req.valid.poke(false.B))
+    down.resp.valid.poke(false.B)
+    MemSim.reset(clock, reset)
+    val busy = seed % 2 == 1
+    val clients = ups.indices.map(i => new BurstClient(ups(i), mem, count,
+      if (busy) 1.0 else 0.2 + 0.8 * rnd.nextDouble(), 0.3 + 0.7 * rnd.nextDouble(), rnd, i))
+    val timing = DramTiming(Seq(3, 40, 300)(seed % 3), 0.3 + 0.7 * rnd.nextDouble(), 0.5 + 0.5 * rnd.nextDouble())
+    val dram = new DramModel(down, mem, timing, rnd)
+    val grants = () => {
+      if (down.req.valid.peek().litToBoolean && down.req.ready.peek().litToBoolean) {
+        val src = (down.req.bits.id.peek().litValue >> idBits).toInt
+        clients.filter(k => k.index != src && k.waiting).foreach(_.othersWhileWaiting += 1)
+      }
+      false
+    }
+    // The grant is counted before the clients see their own handshakes this cycle.
+    MemSim.run(clock, clients.map(k => () => k.drive()) :+ (() => dram.drive()),
+      (grants +: clients.map(k => () => k.observe())) :+ (() => dram.observe()), clients.forall(_.done))
+    (clients, dram, timing, busy)
+  }
+
   // Ports of one shape, and the shapes of the MAPM's memory clients (two L2s with 4-beat lines
   // and different id widths, the SOQ cache with 2-beat lines).
   private val mixed = Seq(up, up.copy(idBits = 3, maxBeats = 2), up.copy(idBits = 1))
@@ -86,27 +114,7 @@ class MemArbiterSpec extends AnyFunSuite with Sim {
     simulate(new MemArbiter(ports, limit)) { c =>
       c.clock.setTimeout(0)
       for (seed <- 0 until 16) {
-        val rnd = new Random(seed)
-        val mem = new MemImage(1 << 12, seed)
-        c.io.up.foreach(_.req.valid.poke(false.B))
-        c.io.down.resp.valid.poke(false.B)
-        MemSim.reset(c.clock, c.reset)
-        // Odd seeds: every port always asking, to see the strict rotation under a busy DRAM.
-        val busy = seed % 2 == 1
-        val clients = Seq.tabulate(n)(i => new BurstClient(c.io.up(i), mem, 150,
-          if (busy) 1.0 else 0.2 + 0.8 * rnd.nextDouble(), 0.3 + 0.7 * rnd.nextDouble(), rnd, i))
-        val timing = DramTiming(Seq(3, 40, 300)(seed % 3), 0.3 + 0.7 * rnd.nextDouble(), 0.5 + 0.5 * rnd.nextDouble())
-        val dram = new DramModel(c.io.down, mem, timing, rnd)
-        val grants = () => {
-          if (c.io.down.req.valid.peek().litToBoolean && c.io.down.req.ready.peek().litToBoolean) {
-            val src = (c.io.down.req.bits.id.peek().litValue >> ports.map(_.idBits).max).toInt
-            clients.filter(k => k.index != src && k.waiting).foreach(_.othersWhileWaiting += 1)
-          }
-          false
-        }
-        // The grant is counted before the clients see their own handshakes this cycle.
-        MemSim.run(c.clock, clients.map(k => () => k.drive()) :+ (() => dram.drive()),
-          (grants +: clients.map(k => () => k.observe())) :+ (() => dram.observe()), clients.forall(_.done))
+        val (clients, dram, timing, busy) = runSeed(c.clock, c.reset, c.io.up, c.io.down, ports.map(_.idBits).max, 150, seed, new Random(seed))
         val what = s"seed $seed, $timing"
         assert(dram.requests.size == 150 * n, what)
         assert(dram.maxOutstanding <= limit, s"${dram.maxOutstanding} in flight, $what")
@@ -157,25 +165,7 @@ class MemArbiterSpec extends AnyFunSuite with Sim {
         c.clock.setTimeout(0)
         assert(c.io.down.p == MemArbiter.downParams(Seq.fill(n)(up)), "the flat arbiter's shared port")
         for (seed <- 0 until 6) {
-          val rnd = new Random(100 + seed)
-          val mem = new MemImage(1 << 12, seed)
-          c.io.up.foreach(_.req.valid.poke(false.B))
-          c.io.down.resp.valid.poke(false.B)
-          MemSim.reset(c.clock, c.reset)
-          val busy = seed % 2 == 1
-          val clients = Seq.tabulate(n)(i => new BurstClient(c.io.up(i), mem, 60,
-            if (busy) 1.0 else 0.2 + 0.8 * rnd.nextDouble(), 0.3 + 0.7 * rnd.nextDouble(), rnd, i))
-          val timing = DramTiming(Seq(3, 40, 300)(seed % 3), 0.3 + 0.7 * rnd.nextDouble(), 0.5 + 0.5 * rnd.nextDouble())
-          val dram = new DramModel(c.io.down, mem, timing, rnd)
-          val grants = () => {
-            if (c.io.down.req.valid.peek().litToBoolean && c.io.down.req.ready.peek().litToBoolean) {
-              val src = (c.io.down.req.bits.id.peek().litValue >> up.idBits).toInt
-              clients.filter(k => k.index != src && k.waiting).foreach(_.othersWhileWaiting += 1)
-            }
-            false
-          }
-          MemSim.run(c.clock, clients.map(k => () => k.drive()) :+ (() => dram.drive()),
-            (grants +: clients.map(k => () => k.observe())) :+ (() => dram.observe()), clients.forall(_.done))
+          val (clients, dram, timing, _) = runSeed(c.clock, c.reset, c.io.up, c.io.down, up.idBits, 60, seed, new Random(100 + seed))
           val what = s"seed $seed, $timing"
           assert(dram.requests.size == 60 * n, what)
           assert(dram.maxOutstanding <= 8, s"${dram.maxOutstanding} in flight, $what")
