@@ -130,6 +130,76 @@ object Sta {
       (System.nanoTime() - t0) / 1e9)
   }
 
+  /** The whole design's timing, every path between its modules included: fmax, the worst path and
+    * the `paths` worst endpoints. */
+  final case class Whole(fmaxGHz: Double, instances: Long, worst: Seq[WholePath], seconds: Double)
+  /** One endpoint's worst path: its start and end points, the period it needs (ns), and the
+    * module instances it runs through in order (`.` for the top's own cells). */
+  final case class WholePath(startPoint: String, endPoint: String, periodNs: Double, through: Seq[String])
+
+  /** Times the hierarchical netlist `netlistFiles` of `top` as one design (timing only, no power),
+    * linked whole so that the paths from one module into another are timed with the rest. The
+    * clocks are ideal, so the worst slack at any period P gives the period the design needs,
+    * P - slack; the script checks that period once more. Each of the `paths` worst endpoints is
+    * reported. For designs too large for the per-module flow's bisection. A positive
+    * `memoryLimitBytes` caps OpenSTA's address space (`prlimit`); past it the run fails. */
+  def timeWhole(netlistFiles: Seq[Path], top: String, libFile: Path, workDir: Path, paths: Int = 5,
+                clockPort: String = "clock", memoryLimitBytes: Long = 0): Whole = {
+    val dir = workDir.toAbsolutePath
+    Files.createDirectories(dir)
+    val tcl = dir.resolve("sta-whole.tcl")
+    val script =
+      s"""|read_liberty {${libFile.toAbsolutePath}}
+          |${netlistFiles.map(n => s"read_verilog {${n.toAbsolutePath}}").mkString("\n")}
+          |link_design {$top}
+          |puts "MAPM_INSTANCES [sta::network_leaf_instance_count]"
+          |set clk_port [get_ports -quiet {$clockPort}]
+          |set ins [delete_from_list [all_inputs] $$clk_port]
+          |proc mapm_clock {period} {
+          |  global clk_port ins
+          |  create_clock -name clk -period $$period $$clk_port
+          |  if {[llength $$ins] > 0} { set_input_delay 0 -clock clk $$ins }
+          |  if {[llength [all_outputs]] > 0} { set_output_delay 0 -clock clk [all_outputs] }
+          |}
+          |mapm_clock 10
+          |# Every clock pin gets a clock tree's transition: a gate's output drives its registers across
+          |# the hierarchy with no tree (see GatedClockTransitionNs); the clock is ideal, so its latency is 0.
+          |set_assigned_transition ${GatedClockTransitionNs} [all_registers -clock_pins]
+          |set need [expr 10.0 - [sta::worst_slack -max]]
+          |foreach path [find_timing_paths -path_delay max -group_count $paths -endpoint_count 1 -sort_by_slack] {
+          |  set through {}
+          |  foreach pt [get_property $$path points] {
+          |    set inst [file dirname [file dirname [get_full_name [get_property $$pt pin]]]]
+          |    if {[llength $$through] == 0 || [lindex $$through end] != $$inst} { lappend through $$inst }
+          |  }
+          |  puts "MAPM_PATH [get_full_name [get_property $$path startpoint]] [get_full_name [get_property $$path endpoint]] [expr 10.0 - [get_property $$path slack]] [join $$through ,]"
+          |}
+          |mapm_clock [expr $$need * 1.0005 + 0.0005]
+          |puts "MAPM_WHOLE $$need [sta::worst_slack -max]"
+          |exit
+          |""".stripMargin
+    Files.write(tcl, script.getBytes(StandardCharsets.UTF_8))
+    val t0 = System.nanoTime()
+    val out = new StringBuilder
+    // An address-space limit makes OpenSTA fail alone (an allocation error) on a design too large for
+    // the machine, rather than bring the kernel's out-of-memory killer onto the other processes.
+    val limit = if (memoryLimitBytes > 0) Seq("prlimit", s"--as=$memoryLimitBytes") else Seq.empty
+    val rc = Process(limit ++ Seq(CostTools.get.sta.toString, "-no_init", "-no_splash", "-exit", tcl.toString), dir.toFile)
+      .!(ProcessLogger(l => out.append(l).append('\n'), l => out.append(l).append('\n')))
+    Files.write(dir.resolve("sta-whole.log"), out.toString.getBytes(StandardCharsets.UTF_8))
+    val text = out.toString
+    val errors = text.linesIterator.filter(l => l.startsWith("Error") || l.contains("error:")).toSeq
+    val whole = ("""MAPM_WHOLE """ + num + """ """ + num).r.findFirstMatchIn(text)
+    if (rc != 0 || errors.nonEmpty || whole.isEmpty)
+      MapmError.fail(s"OpenSTA failed timing $top whole: ${errors.headOption.getOrElse(s"exit $rc")} (log ${dir.resolve("sta-whole.log")})")
+    val need = whole.get.group(1).toDouble
+    MapmError.check(whole.get.group(2).toDouble >= 0, s"OpenSTA timing $top whole: the design misses the period it was found to need, ${need} ns (log ${dir.resolve("sta-whole.log")})")
+    val worst = ("""MAPM_PATH (\S+) (\S+) """ + num + """ (\S*)""").r.findAllMatchIn(text)
+      .map(m => WholePath(m.group(1), m.group(2), m.group(3).toDouble, m.group(4).split(',').toSeq.filter(_.nonEmpty))).toSeq
+    Whole(1.0 / need, """MAPM_INSTANCES ([0-9]+)""".r.findFirstMatchIn(text).map(_.group(1).toLong).getOrElse(0L), worst,
+      (System.nanoTime() - t0) / 1e9)
+  }
+
   private val num = """(-?[0-9.]+(?:[eE][+-]?[0-9]+)?)"""
 
   /** The per-clock sections of the log. */

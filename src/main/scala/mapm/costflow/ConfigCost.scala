@@ -23,9 +23,12 @@ import mapm.MapmError
   *
   * Timing and power of (b): each kept module without kept modules inside is analysed whole by
   * OpenSTA; the others (the top, the blocks, TSMs and SOM lanes around their L1 caches) for their
-  * own logic, with the kept modules inside as empty shells. fmax is the lowest of these
-  * analyses; paths from one part to another are not timed. Power uses one global activity, the
-  * mean net activity the SOA showed in its gate-level simulation.
+  * own logic, with the kept modules inside as empty shells; these give each part's fmax and power.
+  * Then the whole netlist is linked and timed at once ([[Sta.timeWhole]]), which times every path
+  * from one part into another; fmax is the lower of the whole design's and the parts' (they agree
+  * unless a part's own analysis is the stricter), and `crossPartTimed` says whether the whole run
+  * fitted the machine. Power uses one global activity, the mean net activity the SOA showed in
+  * its gate-level simulation.
   */
 object ConfigCost {
   /** SRAM bit-cell area model for the black-boxed arrays: a 6T cell of Intel's 180 nm logic
@@ -142,11 +145,32 @@ object ConfigCost {
     }
   }
 
+  /** The whole design `d` timed at once, so that every path from one part into another is timed
+    * ([[Sta.timeWhole]]), or why it could not be (OpenSTA capped at the memory free now, less 1 GB). */
+  private def timeWhole(flow: CostFlow, d: Synthesized, dir: Path, log: String => Unit): Either[String, Sta.Whole] = {
+    val bbFile = d.result.dir.resolve("blackboxes.v")
+    val extra = if (Files.isRegularFile(bbFile)) Seq(bbFile) else Seq.empty
+    val free = freeMemoryBytes()
+    log(f"timing ${d.top} whole, every path between its parts (OpenSTA capped at ${free / 1e9 - 1}%.1f GB) ...")
+    try Right(Sta.timeWhole(Seq(d.result.verilog) ++ extra, d.top, flow.libPath, dir.resolve("sta-whole"),
+      memoryLimitBytes = math.max(free - (1L << 30), 1L << 30)))
+    catch { case e: MapmError => Left(e.getMessage) }
+  }
+
+  /** The memory the kernel could give a new process now (`MemAvailable`). */
+  private def freeMemoryBytes(): Long = {
+    val line = new String(Files.readAllBytes(java.nio.file.Paths.get("/proc/meminfo")), StandardCharsets.UTF_8)
+      .linesIterator.find(_.startsWith("MemAvailable:"))
+    line.map(_.split("\\s+")(1).toLong * 1024).getOrElse(8L << 30)
+  }
+
   /** Method (b)'s figures from the synthesized design `d` and its `analyses`: fmax, logic area,
     * power at each clock, each by block, and the SRAM arrays' bits and modelled area. */
-  private def methodB(d: Synthesized, analyses: Seq[(Analysis, Sta.Report)], clocks: Seq[Double], meanActivity: Double): ujson.Obj = {
+  private def methodB(d: Synthesized, analyses: Seq[(Analysis, Sta.Report)], whole: Either[String, Sta.Whole], label: String,
+                      clocks: Seq[Double], meanActivity: Double): ujson.Obj = {
     import d.{own, paths, mems, hier, block}
-    val fmaxB = analyses.map(_._1.fmaxGHz).min
+    val partsFmax = analyses.map(_._1.fmaxGHz).min
+    val fmaxB = whole.fold(_ => partsFmax, w => math.min(w.fmaxGHz, partsFmax))
     val slowest = analyses.minBy(_._1.fmaxGHz)._1
     val blocks = CostBlock.all.map(_.name)
     val areaBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.areaUm2).getOrElse(0.0)).sum }
@@ -160,7 +184,14 @@ object ConfigCost {
     val sramBits = sramBy.values.sum
     ujson.Obj(
       "description" -> "every module synthesized once, parts kept whole, own cells x instances; SRAM arrays black-boxed",
-      "fmaxGHz" -> fmaxB, "slowest" -> ujson.Obj("module" -> slowest.root, "path" -> slowest.critical),
+      "fmaxGHz" -> fmaxB, "partsFmaxGHz" -> partsFmax, "slowest" -> ujson.Obj("module" -> slowest.root, "path" -> slowest.critical),
+      "crossPartTimed" -> whole.isRight,
+      "wholeTiming" -> whole.fold(
+        why => ujson.Obj("configuration" -> ujson.Null, "reason" -> why),
+        w => ujson.Obj("configuration" -> label, "fmaxGHz" -> w.fmaxGHz, "instances" -> w.instances.toDouble, "seconds" -> w.seconds,
+          "note" -> "the whole netlist linked and timed at once (ideal clock, a clock tree's transition at every clock pin); SRAM arrays are black boxes, so paths end at their pins and their access time is not counted",
+          "worstPaths" -> ujson.Arr.from(w.worst.map(p => ujson.Obj("start" -> p.startPoint, "end" -> p.endPoint, "periodNs" -> p.periodNs,
+            "through" -> ujson.Arr.from(p.through.map(ujson.Str(_)))))))),
       "logicAreaMm2" -> areaBy.values.sum / 1e6, "sequentialAreaMm2" -> seqBy.values.sum / 1e6,
       "areaByBlockMm2" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(areaBy.getOrElse(b, 0.0) / 1e6))),
       "activity" -> s"global $meanActivity toggles/cycle (mean net activity of the SOA's gate-level run), duty 0.5",
@@ -204,13 +235,14 @@ object ConfigCost {
     val d = synthesize(flow, p, dir, log)
     val t0 = System.nanoTime()
     val analyses = analyse(flow, d, meanActivity, dir, log)
+    val whole = timeWhole(flow, d, dir, log)
     val staSecs = (System.nanoTime() - t0) / 1e9
     ujson.Obj(
       "configuration" -> p.counts.label, "format" -> p.numbers.format.toString, "g" -> p.numbers.guardDigits,
       "library" -> flow.libPath.getFileName.toString,
       "methodA" -> ujson.Obj("description" -> s"$nSoa SOAs x ${soa.top} + $nTsa TSAs x ${tsa.top} (dissertation Table 4.9)",
         "fmaxGHz" -> fmaxA, "atFmax" -> methodA(nSoa, nTsa, soa, tsa)(fmaxA), "clocks" -> ujson.Arr.from(flow.clocksGHz.map(methodA(nSoa, nTsa, soa, tsa)))),
-      "methodB" -> methodB(d, analyses, flow.clocksGHz, meanActivity),
+      "methodB" -> methodB(d, analyses, whole, p.counts.label, flow.clocksGHz, meanActivity),
       "seconds" -> ujson.Obj("synthesis" -> d.seconds, "sta" -> staSecs))
   }
 
@@ -225,7 +257,12 @@ object ConfigCost {
       sb ++= f"| ${ca("clockGHz").num}%.3f | ${if (ca("slackMet").bool) "yes" else "no"} | ${ca("areaMm2").num}%.3f | ${ca("dynamicPowerMw").num}%.1f | ${ca("leakagePowerMw").num}%.4f | " +
         f"${if (cb("slackMet").bool) "yes" else "no"} | ${b("logicAreaMm2").num}%.3f | ${cb("dynamicPowerMw").num}%.1f | ${cb("leakagePowerMw").num}%.4f |\n"
     sb ++= f"\n(a) ${a("description").str}: fmax ${a("fmaxGHz").num}%.3f GHz\n"
-    sb ++= f"(b) ${b("description").str}: fmax ${b("fmaxGHz").num}%.3f GHz (slowest: ${b("slowest")("module").str}, ${b("slowest")("path").str})\n"
+    sb ++= f"(b) ${b("description").str}: fmax ${b("fmaxGHz").num}%.3f GHz\n"
+    sb ++= f"    each part alone: ${b("partsFmaxGHz").num}%.3f GHz (slowest: ${b("slowest")("module").str}, ${b("slowest")("path").str})\n"
+    val w = b("wholeTiming")
+    sb ++= (if (b("crossPartTimed").bool) f"    timed whole (every path between parts): ${w("fmaxGHz").num}%.3f GHz" +
+              w("worstPaths").arr.headOption.fold("")(p => s", worst path ${p("start").str} -> ${p("end").str} through ${p("through").arr.map(_.str).mkString(" > ")}") + "\n"
+            else s"    not timed whole, so the paths between parts are not timed: ${w("reason").str}\n")
     sb ++= "    logic area by block (mm^2): " + b("areaByBlockMm2").obj.map { case (k, v) => f"$k ${v.num}%.3f" }.mkString(", ") + "\n"
     val s = b("sram")
     sb ++= f"    SRAM (not synthesized): ${s("bits").num}%.0f bits, ${s("areaMm2").num}%.3f mm^2 by ${s("model").str}\n"

@@ -189,8 +189,16 @@ class CostCommandSpec extends AnyFunSuite {
       .map(_.group(1)).filter(mods.contains).map(memBits).sum
     assert(bits.nonEmpty && b("sram")("bits").num == memBits(top).toDouble)
     assert(b("sram")("powerMw").isNull)
+    // Each part alone, then the whole netlist timed at once: no faster than its slowest part alone
+    // (every part's paths are in it, with later inputs and real loads), and it sets fmax.
     val mins = b("modules").arr.map(_("fmaxGHz").num)
-    assert(b("fmaxGHz").num == mins.min && b("fmaxGHz").num > 0)
+    assert(b("partsFmaxGHz").num == mins.min && b("fmaxGHz").num > 0)
+    assert(b("crossPartTimed").bool, b("wholeTiming").toString)
+    val whole = b("wholeTiming")
+    assert(whole("configuration").str == "1/1/1" && whole("instances").num > 1000)
+    assert(whole("fmaxGHz").num <= mins.min * (1 + 1e-3), s"whole ${whole("fmaxGHz")} GHz, slowest part ${mins.min}")
+    assert(b("fmaxGHz").num == math.min(whole("fmaxGHz").num, mins.min))
+    assert(math.abs(whole("worstPaths")(0)("periodNs").num - 1 / whole("fmaxGHz").num) < 2e-3)
     for (c <- b("clocks").arr) {
       assert(c("slackMet").bool == (c("clockGHz").num <= b("fmaxGHz").num + 1e-9))
       assert(math.abs(c("dynamicByBlockMw").obj.values.map(_.num).sum - c("dynamicPowerMw").num) < 1e-6 * c("dynamicPowerMw").num)

@@ -120,6 +120,42 @@ class StaSpec extends AnyFunSuite {
     val behind = sta(shift(gated = true), "sr", Seq(0.1)).clocks.head.internalMw
     assert(behind > 0.5 * direct && behind < 2 * direct, s"internal power behind the gate $behind mW, on the port $direct mW")
   }
+
+  test("a path from one module into another is timed whole: hierarchical and hand-flattened netlists need the same period") {
+    val k = 12
+    def invs(prefix: String, from: String, to: String): String =
+      (0 until k).map { i =>
+        val in = if (i == 0) from else s"${prefix}n$i"; val out = if (i == k - 1) to else s"${prefix}n${i + 1}"
+        s"  INVX1 ${prefix}u$i (.A($in), .Y($out));\n"
+      }.mkString
+    def wires(prefix: String): String = (1 until k).map(i => s"  wire ${prefix}n$i;\n").mkString
+    // drive: a flip-flop, then k inverters to its output; take: k inverters from its input into a flip-flop.
+    // Every flip-flop sits behind a clock gate, so that both analyses give its clock pin the same transition.
+    val drive = s"module drive(gclk, d, y);\n  input gclk;\n  input d;\n  output y;\n  wire q;\n${wires("")}" +
+      s"  DFFPOSX1 r (.CLK(gclk), .D(d), .Q(q));\n${invs("", "q", "y")}endmodule\n"
+    val take = s"module take(gclk, a, q);\n  input gclk;\n  input a;\n  output q;\n  wire x;\n${wires("")}" +
+      s"${invs("", "a", "x")}  DFFPOSX1 r (.CLK(gclk), .D(x), .Q(q));\nendmodule\n"
+    val hier = write(drive + take +
+      "module top(clock, en, d, q);\n  input clock;\n  input en;\n  input d;\n  output q;\n  wire gclk;\n  wire m;\n" +
+      "  AND2X2 g (.A(clock), .B(en), .Y(gclk));\n  drive a (.gclk(gclk), .d(d), .y(m));\n  take b (.gclk(gclk), .a(m), .q(q));\nendmodule\n")
+    val flat = write("module top(clock, en, d, q);\n  input clock;\n  input en;\n  input d;\n  output q;\n  wire gclk;\n  wire m;\n  wire q0;\n  wire x;\n" +
+      wires("a_") + wires("b_") + "  AND2X2 g (.A(clock), .B(en), .Y(gclk));\n  DFFPOSX1 ra (.CLK(gclk), .D(d), .Q(q0));\n" +
+      invs("a_", "q0", "m") + invs("b_", "m", "x") + "  DFFPOSX1 rb (.CLK(gclk), .D(x), .Q(q));\nendmodule\n")
+    val whole = Sta.timeWhole(Seq(hier), "top", tools().osu018Lib, hier.getParent.resolve("whole"))
+    val reference = sta(flat, "top", Seq(0.1))
+    assert(whole.instances == 2 * k + 3, s"${whole.instances} leaf cells")
+    assert(math.abs(1 / whole.fmaxGHz - 1 / reference.fmaxGHz) < 2e-3,
+      s"whole ${1 / whole.fmaxGHz} ns, flattened ${1 / reference.fmaxGHz} ns")
+    assert(whole.worst.head.startPoint.startsWith("a/r/") && whole.worst.head.endPoint == "b/r/D", whole.worst.toString)
+    assert(whole.worst.head.through == Seq("a", "b"), whole.worst.toString)
+    assert(math.abs(whole.worst.head.periodNs - 1 / whole.fmaxGHz) < 2e-3)
+    // Each module alone (inputs at the edge, outputs required at it) needs about half the crossing's period.
+    val inv = cell("INVX1")
+    for ((text, top) <- Seq(drive -> "drive", take -> "take")) {
+      val alone = 1 / sta(write(text), top, Seq(0.1)).fmaxGHz
+      assert(alone + (k - 2) * inv.delays.min < 1 / whole.fmaxGHz, s"$top alone needs $alone ns, the crossing ${1 / whole.fmaxGHz} ns")
+    }
+  }
 }
 
 object StaSpec {
