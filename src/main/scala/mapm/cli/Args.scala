@@ -205,12 +205,12 @@ object Args {
     def geometry(c: CacheParams) = s"${c.sizeBytes / 1024}K/${c.lineBytes}/${if (c.fullyAssociative) "full" else c.ways}"
     val c = one.caches
     val banks16 = Scalable.sopL2Banks(MapmParams.dissertation.counts, c.sopL2)
-    Map("--rq-depth" -> one.queues.registerQueueDepth.toString, "--rs-entries" -> s"${one.queues.rsEntries} per SOA; ${one.queues.rsEntries + mapm.params.SoBus.Ring.extraRsPerSoa} with --so-bus ring",
+    Map("--rq-depth" -> one.queues.registerQueueDepth.toString, "--rs-entries" -> s"${one.queues.rsEntries + mapm.params.SoBus.Ring.extraRsPerSoa} per SOA with the ring bus, ${one.queues.rsEntries} with --so-bus serial",
       "--ts-l1" -> s"${geometry(Scalable.tsL1)}; $Table42: ${geometry(Table42.tsL1)}", "--ts-l2" -> geometry(c.tsL2), "--soq" -> s"${geometry(Scalable.soq)}; $Table42: ${geometry(Table42.soq)}",
       "--sop-l1" -> geometry(c.sopL1), "--sop-l2" -> geometry(c.sopL2), "--mem-outstanding" -> one.memory.maxOutstanding.toString,
       "--sop-l2-banks" -> s"one per two SOP L1 banks, $banks16 at 16/16/2; $Table42: 1", "--ts-l2-banks" -> "1",
       "--query-order" -> s"morton; host with --hierarchy $Table42", "--fidelity" -> mapm.params.Fidelity.Full.name,
-      "--so-bus" -> mapm.params.SoBus.Serial.name)
+      "--so-bus" -> s"${mapm.params.SoBus.Ring}; $Table42: ${mapm.params.SoBus.Serial}")
   }
 
   /** The hardware sizes `emit`, `render`, `sweep` and `evaluate` share (see [[rtlOptionsParser]] for why here). */

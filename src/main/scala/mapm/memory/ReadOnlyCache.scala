@@ -11,6 +11,13 @@ class TagRow(cfg: CacheConfig) extends Bundle {
   val plru = UInt(cfg.plruBits.W)
 }
 
+/** An access waiting for the lookup: its word address (the byte address without the offset in
+  * the word) and the client's id. */
+class CacheAccess(wordAddrBits: Int, idBits: Int) extends Bundle {
+  val wordAddr = UInt(wordAddrBits.W)
+  val id = UInt(idBits.W)
+}
+
 /** A cache's hit and miss this cycle, for counters kept above it. */
 class CacheEvents extends Bundle {
   /** An access whose line was present or already being refilled. */
@@ -54,6 +61,9 @@ class CacheCounters(bits: Int) extends Bundle {
   * backpressure only stalls, never drops.
   *
   * After reset the cache clears its tag array, one set per cycle (`up.req.ready` stays low).
+  * Requests enter through a two-entry flow-through queue whose `ready` is a register's
+  * ([[RegFifo]]): a request reaches the lookup in the cycle it arrives when the lookup is free,
+  * and up to two wait there while it stalls, so no client logic depends on the lookup's outcome.
   *
   * Latency: a hit's response is valid 3 cycles after its request is accepted (lookup, data read,
   * response register). A miss's response is valid 5 + B + L cycles after acceptance without
@@ -120,12 +130,20 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   val s1Done = Wire(Bool())
   val s1Set = setOf(s1Addr)
 
-  io.up.req.ready := !clearing && (!s1Valid || s1Done)
-  when(io.up.req.fire) {
-    s1Addr := wordAddr(io.up.req.bits.addr)
-    s1Id := io.up.req.bits.id
+  // Requests pass a two-entry flow-through queue whose ready is a register's, so that no client
+  // waits on this cycle's lookup (its tag compare and miss table) to decide what to send.
+  val inQ = Module(new RegFifo(new CacheAccess(cfg.addressBits - wordOff, cfg.idBits), 2, flow = true))
+  inQ.io.enq.valid := io.up.req.valid && !clearing
+  inQ.io.enq.bits.wordAddr := wordAddr(io.up.req.bits.addr)
+  inQ.io.enq.bits.id := io.up.req.bits.id
+  io.up.req.ready := inQ.io.enq.ready && !clearing
+  val req = inQ.io.deq
+  req.ready := !s1Valid || s1Done
+  when(req.fire) {
+    s1Addr := req.bits.wordAddr
+    s1Id := req.bits.id
   }
-  s1Valid := io.up.req.fire || (s1Valid && !s1Done)
+  s1Valid := req.fire || (s1Valid && !s1Done)
   val badRequest = io.up.req.bits.len =/= 0.U ||
     (if (wordOff == 0) false.B else io.up.req.bits.addr(wordOff - 1, 0) =/= 0.U)
   val protocolError = RegInit(false.B)
@@ -133,7 +151,7 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   io.protocolError := protocolError || miss.io.protocolError
 
   // A stalled lookup rereads its own set, so the row it sees is never older than one write.
-  val readSet = Mux(s1Valid && !s1Done, s1Set, setOf(wordAddr(io.up.req.bits.addr)))
+  val readSet = Mux(s1Valid && !s1Done, s1Set, setOf(req.bits.wordAddr))
   val memRow = tagMem.read(readSet)
   // The row written last cycle is forwarded when the lookup is on that set (read-during-write).
   val lastWrite = RegInit(false.B)

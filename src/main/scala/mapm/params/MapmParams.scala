@@ -188,7 +188,7 @@ object SoBus extends mapm.Choices[SoBus] {
 final case class UncoreParams(
     tsL2: L2Structure = L2Structure.Shared, // the TS L2: one shared cache, or address-interleaved banks
     sopL2: L2Structure = L2Structure.Shared, // the SOP L2: one shared cache, or address-interleaved banks
-    soBus: SoBus = SoBus.Serial              // the Data bus: the dissertation's serial claims, or the staged ring
+    soBus: SoBus = SoBus.Serial              // the Data bus: the dissertation's serial claims (Table 4.2's hierarchy), or the staged ring (the scalable one's)
 )
 
 /** The memory hierarchy a configuration is built with: the dissertation's (Table 4.2: one shared
@@ -232,7 +232,7 @@ object Hierarchy extends mapm.Choices[Hierarchy] {
     }
     def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams = {
       val n = sopL2Banks(c, sopL2)
-      UncoreParams(sopL2 = if (n == 1) L2Structure.Shared else L2Structure.Banked(n))
+      UncoreParams(sopL2 = if (n == 1) L2Structure.Shared else L2Structure.Banked(n), soBus = SoBus.Ring)
     }
   }
   val all: Seq[Hierarchy] = Seq(Scalable, Table42)

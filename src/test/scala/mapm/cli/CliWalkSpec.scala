@@ -164,7 +164,7 @@ class CliWalkSpec extends AnyFunSuite {
   test("--help says what matters at a glance: render's sizes default to 16/16/2, model takes fp64, evaluate takes no --scene") {
     val render = helpEntries(RenderCommand).toMap
     for ((o, d) <- Seq("--tsm" -> "16", "--som" -> "16", "--soa" -> "2", "--latency" -> "100", "--bandwidth" -> "14", "--clock-ghz" -> "1.5",
-        "--out" -> "out", "--scene" -> RenderCommand.defaultScene, "--fidelity" -> "full", "--ts-l1" -> "16K/64/2; table4.2: 16K/32/2", "--rs-entries" -> "8 per SOA; 10 with --so-bus ring", "--so-bus" -> "serial"))
+        "--out" -> "out", "--scene" -> RenderCommand.defaultScene, "--fidelity" -> "full", "--ts-l1" -> "16K/64/2; table4.2: 16K/32/2", "--rs-entries" -> "10 per SOA with the ring bus, 8 with --so-bus serial", "--so-bus" -> "ring; table4.2: serial"))
       assert(render(o).endsWith(s"(default: $d)"), render(o))
     assert(helpEntries(ModelCommand).toMap.apply("--format").contains("fp64"))
     val evaluate = helpEntries(EvaluateCommand).toMap

@@ -61,14 +61,17 @@ class ConfigureSpec extends AnyFunSuite {
     assert(few.getMessage.contains("cannot be split into 8 banks"), few.getMessage)
   }
 
-  test("--so-bus: serial by default; the ring bus brings two more reservation-station entries a SOA unless --rs-entries says") {
-    import mapm.params.SoBus
-    val serial = Configure.of(16, 16, 2, FloatFormat.fp32, 3)
-    assert(serial.uncore.soBus == SoBus.Serial && serial.queues.rsEntries == 16)
-    val ring = Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(soBus = Some(SoBus.Ring)))
+  test("--so-bus: the ring with the scalable hierarchy, serial with Table 4.2's; the ring brings two more reservation-station entries a SOA unless --rs-entries says") {
+    import mapm.params.{Hierarchy, SoBus}
+    val ring = Configure.of(16, 16, 2, FloatFormat.fp32, 3)
     assert(ring.uncore.soBus == SoBus.Ring && ring.queues.rsEntries == 20 && ring.rsPerSoa == 10)
-    assert(Configure.of(3, 2, 3, FloatFormat.fp32, 3, tuning = Tuning(soBus = Some(SoBus.Ring))).rsPerSoa == 10)
-    assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(soBus = Some(SoBus.Ring), rsEntries = Some(16))).queues.rsEntries == 16)
+    val serial = Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(soBus = Some(SoBus.Serial)))
+    assert(serial.uncore.soBus == SoBus.Serial && serial.queues.rsEntries == 16)
+    val table42 = Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(hierarchy = Hierarchy.Table42))
+    assert(table42.uncore.soBus == SoBus.Serial && table42.queues.rsEntries == 16)
+    assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(hierarchy = Hierarchy.Table42, soBus = Some(SoBus.Ring))).queues.rsEntries == 20)
+    assert(Configure.of(3, 2, 3, FloatFormat.fp32, 3).rsPerSoa == 10)
+    assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(rsEntries = Some(16))).queues.rsEntries == 16)
     assert(ring.name.endsWith("_ring") && !serial.name.contains("ring"))
   }
 }
