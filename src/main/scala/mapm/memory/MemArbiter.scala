@@ -2,6 +2,7 @@ package mapm.memory
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{instantiable, public}
 
 /** Shares one memory port among `n` requesters (the caches) in round-robin order.
   *
@@ -18,6 +19,7 @@ import chisel3.util._
   * Latency: none (combinational paths from `up` to `down` and back). Throughput: one request and
   * one response beat per cycle.
   */
+@instantiable
 class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends Module {
   /** `n` requesters with the same port shape. */
   def this(up: MemPortParams, n: Int, maxOutstanding: Int) = this(Seq.fill(n)(up), maxOutstanding)
@@ -33,7 +35,7 @@ class MemArbiter(val ups: Seq[MemPortParams], val maxOutstanding: Int) extends M
   private val idBits = ups.map(_.idBits).max
   val downParams: MemPortParams = MemArbiter.downParams(ups)
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val up = MixedVec(ups.map(p => Flipped(new MemPort(p))))
     val down = new MemPort(downParams)
     /** Sticky: a response beat whose id names no requester (dropped), or a last beat with no

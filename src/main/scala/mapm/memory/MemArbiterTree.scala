@@ -2,6 +2,7 @@ package mapm.memory
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, public}
 
 /** A [[MemArbiter]] over `n` ports of one shape, built as a registered tree when `n` is larger
   * than `fanIn`: the ports in groups of `fanIn`, each group's round-robin arbiter feeding a
@@ -15,6 +16,7 @@ import chisel3.util._
   * pass through combinationally. Throughput: one request and one response beat per cycle. Fairness:
   * round robin over the groups, and within each group over its ports.
   */
+@instantiable
 class MemArbiterTree(up: MemPortParams, n: Int, maxOutstanding: Int, fanIn: Int = MemArbiterTree.FanIn) extends Module {
   require(fanIn >= 2 && isPow2(fanIn), s"a memory arbiter tree's fan-in must be a power of two of at least 2, got $fanIn")
   require(n >= 1, "memory arbiter needs at least one port")
@@ -24,7 +26,7 @@ class MemArbiterTree(up: MemPortParams, n: Int, maxOutstanding: Int, fanIn: Int 
   require(downParams == MemArbiter.downParams(Seq.fill(n)(up)), s"tree over $n ports changes the shared port: $downParams")
   override def desiredName = s"MemArbiterTree_n${n}_f${fanIn}_o$maxOutstanding"
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val up = Vec(n, Flipped(new MemPort(MemArbiterTree.this.up)))
     val down = new MemPort(downParams)
     /** Sticky: any level's protocol error ([[MemArbiter]]). */
@@ -37,11 +39,15 @@ class MemArbiterTree(up: MemPortParams, n: Int, maxOutstanding: Int, fanIn: Int 
     io.down <> a.io.down
     io.protocolError := a.io.protocolError
   } else {
-    val inner = groups.map(g => Module(new MemArbiter(up, g.size, maxOutstanding)))
+    // The groups' arbiters and queues of one size are elaborated once and instantiated (a wide L2
+    // has thousands of them).
+    val groupDefs = groups.map(_.size).distinct.map(k => k -> Definition(new MemArbiter(up, k, maxOutstanding))).toMap
+    val queueDefs = groups.map(_.size).distinct.map(k => k -> Definition(new RegFifo(new MemReq(MemArbiter.downParams(Seq.fill(k)(up))), 2))).toMap
+    val inner = groups.map(g => Instance(groupDefs(g.size)))
     val outer = Module(new MemArbiter(innerDown, maxOutstanding))
     for ((g, a) <- groups.zip(inner); (i, k) <- g.zipWithIndex) a.io.up(k) <> io.up(i)
     for ((a, j) <- inner.zipWithIndex) {
-      val q = Module(new RegFifo(chiselTypeOf(a.io.down.req.bits), 2))
+      val q = Instance(queueDefs(groups(j).size))
       q.io.enq <> a.io.down.req
       outer.io.up(j).req <> q.io.deq
       a.io.down.resp <> outer.io.up(j).resp

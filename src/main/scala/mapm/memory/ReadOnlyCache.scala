@@ -2,6 +2,7 @@ package mapm.memory
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{instantiable, public}
 import mapm.util.{CostBlock, Counters}
 
 /** One set of the tag array: a valid bit and a tag per way, and the set's pseudo-LRU state. */
@@ -73,13 +74,14 @@ class CacheCounters(bits: Int) extends Bundle {
   * [[CacheConfig.below]] thus takes 8 cycles. Throughput: one request per cycle while hits flow
   * and the client takes responses; responses to different ids may leave out of order.
   */
+@instantiable
 class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   override def desiredName = cfg.name
   CostBlock.tag(this, CostBlock.Caches)
   private val respDepth = 3
   private val setW = cfg.setBits max 1
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     /** Client reads (the cache is the responder). */
     val up = Flipped(new MemPort(cfg.up))
     /** Line refills from the level below (the cache is the requester). */

@@ -2,6 +2,7 @@ package mapm.memory
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{instantiable, public}
 
 /** A first-in first-out queue held in flip-flops, with the occupancy as an output.
   *
@@ -15,11 +16,12 @@ import chisel3.util._
   * the queue is empty (it then passes through without being stored). Throughput: one entry in and
   * one out per cycle; `enq.ready` is low only when all `entries` are taken.
   */
+@instantiable
 class RegFifo[T <: Data](gen: T, entries: Int, flow: Boolean = false) extends Module {
   require(entries >= 1, s"FIFO needs at least one entry, got $entries")
   override def desiredName = s"RegFifo_$entries${if (flow) "_flow" else ""}"
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val enq = Flipped(Decoupled(gen))
     val deq = Decoupled(gen)
     val count = Output(UInt(log2Ceil(entries + 1).W))

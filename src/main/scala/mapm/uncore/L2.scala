@@ -2,6 +2,7 @@ package mapm.uncore
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, public}
 import mapm.memory.{CacheConfig, MemArbiterTree, MemPort, MemPortParams, MemResp, ReadOnlyCache, RegFifo}
 import mapm.params.L2Structure
 import mapm.util.Counters
@@ -55,15 +56,25 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
     val counters = Output(new L2Counters)
   })
 
+  // Every repeated part is elaborated once and instantiated: a wide L2 has thousands.
+  private val bankDef = Definition(new ReadOnlyCache(bank))
+  private val arbDef = Definition(new MemArbiterTree(up, clients, maxOutstanding = 4 * clients))
+  private val banks = Seq.fill(n)(Instance(bankDef))
+  private val arbs = Seq.fill(n)(Instance(arbDef))
+  private val fifoDefs = scala.collection.mutable.Map.empty[String, Definition[RegFifo[Data]]]
+
   /** `in` through a two-entry register FIFO: valid, bits and ready all leave a register. */
   private def registered[T <: Data](in: DecoupledIO[T]): DecoupledIO[T] = {
-    val f = Module(new RegFifo(chiselTypeOf(in.bits), 2))
+    val gen = chiselTypeOf(in.bits)
+    val key = gen match {
+      case r: Record => r.getClass.getName + r.elements.map { case (k, v) => s"$k:${v.getWidth}" }.mkString(",")
+      case d => d.getClass.getName + d.getWidth
+    }
+    val d = fifoDefs.getOrElseUpdate(key, Definition(new RegFifo[Data](gen, 2)))
+    val f = Instance(d)
     f.io.enq <> in
-    f.io.deq
+    f.io.deq.asInstanceOf[DecoupledIO[T]]
   }
-
-  private val banks = Seq.fill(n)(Module(new ReadOnlyCache(bank)))
-  private val arbs = Seq.fill(n)(Module(new MemArbiterTree(up, clients, maxOutstanding = 4 * clients)))
   for (b <- 0 until n) io.mem(b) <> banks(b).io.down
 
   structure match {
@@ -72,6 +83,7 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
       banks.head.io.up <> arbs.head.io.down
       io.counters.conflicts := Counters.count(io.l1.map(l => l.req.valid && !l.req.ready && arbs.head.io.down.req.fire))
     case L2Structure.Banked(_) =>
+      lazy val respArbDef = Definition(new RespArbiter(up, n))
       val bankBits = log2Ceil(n)
       val lineBits = log2Ceil(bank.lineBytes)
       val waits = for (i <- 0 until clients) yield {
@@ -83,7 +95,7 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
           port.req.bits := req.bits
         }
         req.ready := VecInit(arbs.map(_.io.up(i).req.ready))(b)
-        val respArb = Module(new RRArbiter(new MemResp(up), n))
+        val respArb = Instance(respArbDef)
         for (k <- 0 until n) respArb.io.in(k) <> arbs(k).io.up(i).resp
         io.l1(i).resp <> registered(respArb.io.out)
         req.valid && !req.ready && VecInit(arbs.map(_.io.down.req.fire))(b)
@@ -98,4 +110,14 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
   io.protocolError := (banks.map(_.io.protocolError) ++ arbs.map(_.io.protocolError)).reduce(_ || _)
   io.counters.hits := Counters.count(banks.map(_.io.events.hit))
   io.counters.misses := Counters.count(banks.map(_.io.events.miss))
+}
+
+/** The round-robin merge of `n` banks' response beats for one L1 (Chisel's `RRArbiter`), as a
+  * module of its own that an L2 elaborates once. Latency: none. Throughput: one beat per cycle. */
+@instantiable
+class RespArbiter(up: MemPortParams, n: Int) extends Module {
+  override def desiredName = s"RespArbiter_n$n"
+  @public val io = IO(new ArbiterIO(new MemResp(up), n))
+  private val a = Module(new RRArbiter(new MemResp(up), n))
+  io <> a.io
 }
