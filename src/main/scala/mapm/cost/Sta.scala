@@ -141,7 +141,8 @@ object Sta {
     * linked whole so that the paths from one module into another are timed with the rest. The
     * clocks are ideal, so the worst slack at any period P gives the period the design needs,
     * P - slack; the script checks that period once more. Each of the `paths` worst endpoints is
-    * reported. For designs too large for the per-module flow's bisection. A positive
+    * reported. The configuration inputs (`io_cfg...`), which hold their value for a whole frame,
+    * start no path. For designs too large for the per-module flow's bisection. A positive
     * `memoryLimitBytes` caps OpenSTA's address space (`prlimit`); past it the run fails. */
   def timeWhole(netlistFiles: Seq[Path], top: String, libFile: Path, workDir: Path, paths: Int = 5,
                 clockPort: String = "clock", memoryLimitBytes: Long = 0): Whole = {
@@ -162,6 +163,9 @@ object Sta {
           |  if {[llength [all_outputs]] > 0} { set_output_delay 0 -clock clk [all_outputs] }
           |}
           |mapm_clock 10
+          |# Configuration inputs hold one value for a whole frame: no path starts at them.
+          |set cfg [get_ports -quiet {io_cfg*}]
+          |if {[llength $$cfg] > 0} { set_false_path -from $$cfg }
           |# Every clock pin gets a clock tree's transition: a gate's output drives its registers across
           |# the hierarchy with no tree (see GatedClockTransitionNs); the clock is ideal, so its latency is 0.
           |set_assigned_transition ${GatedClockTransitionNs} [all_registers -clock_pins]

@@ -3,7 +3,7 @@ package mapm.uncore
 import chisel3._
 import chisel3.util._
 import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, public}
-import mapm.memory.{CacheConfig, MemArbiterTree, MemPort, MemPortParams, MemResp, ReadOnlyCache, RegFifo}
+import mapm.memory.{CacheConfig, MemArbiter, MemArbiterTree, MemPort, MemPortParams, MemResp, ReadOnlyCache, RegFifo}
 import mapm.params.L2Structure
 import mapm.util.Counters
 
@@ -27,12 +27,15 @@ class L2Counters extends Bundle {
   *    (round robin over the L1s), and enters the bank through another two-entry queue; each bank's
   *    responses leave through a two-entry queue, route back to their L1 by id, meet the other
   *    banks' responses for that L1 in a round-robin arbiter and leave through a last two-entry
-  *    queue. No combinational path runs from an L1 through the network to a bank or back. `mem`
-  *    has one port per bank.
+  *    queue. No combinational path runs from an L1 through the network to a bank or back. The L1s
+  *    sit in groups of eight ([[L2Group]]: their queues, the banks' arbiters over the group, the
+  *    response merges), so the wiring between the groups and the banks grows as C/8 x n links,
+  *    not C x n. `mem` has one port per bank.
   *
-  * Every arbiter over more than eight L1s is a registered tree ([[MemArbiterTree]]: groups of
-  * eight, a two-entry queue after each group's arbiter), so no grant decides among more than
-  * eight requests in a cycle; that adds a cycle to a request from more than eight L1s.
+  * Every arbiter over more than eight L1s is a registered tree (groups of eight, a two-entry
+  * queue after each group's arbiter: [[MemArbiterTree]] for the shared L2, [[L2Group]] and a
+  * bank's arbiter over the groups for the banked one), so no grant decides among more than eight
+  * requests in a cycle; that adds a cycle to a request from more than eight L1s.
   *
   * Latency: a hit answers in the shared structure 3 cycles after the arbiter takes the request
   * (the cache's own latency), in the banked one 4 cycles later (a register each way on each side
@@ -58,56 +61,50 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
 
   // Every repeated part is elaborated once and instantiated: a wide L2 has thousands.
   private val bankDef = Definition(new ReadOnlyCache(bank))
-  private val arbDef = Definition(new MemArbiterTree(up, clients, maxOutstanding = 4 * clients))
   private val banks = Seq.fill(n)(Instance(bankDef))
-  private val arbs = Seq.fill(n)(Instance(arbDef))
-  private val fifoDefs = scala.collection.mutable.Map.empty[String, Definition[RegFifo[Data]]]
+  for (b <- 0 until n) io.mem(b) <> banks(b).io.down
+  private val maxOutstanding = 4 * clients
 
   /** `in` through a two-entry register FIFO: valid, bits and ready all leave a register. */
   private def registered[T <: Data](in: DecoupledIO[T]): DecoupledIO[T] = {
-    val gen = chiselTypeOf(in.bits)
-    val key = gen match {
-      case r: Record => r.getClass.getName + r.elements.map { case (k, v) => s"$k:${v.getWidth}" }.mkString(",")
-      case d => d.getClass.getName + d.getWidth
-    }
-    val d = fifoDefs.getOrElseUpdate(key, Definition(new RegFifo[Data](gen, 2)))
-    val f = Instance(d)
+    val f = Module(new RegFifo(chiselTypeOf(in.bits), 2))
     f.io.enq <> in
-    f.io.deq.asInstanceOf[DecoupledIO[T]]
+    f.io.deq
   }
-  for (b <- 0 until n) io.mem(b) <> banks(b).io.down
 
-  structure match {
+  private val errors: Seq[Bool] = structure match {
     case L2Structure.Shared =>
-      for (i <- 0 until clients) arbs.head.io.up(i) <> io.l1(i)
-      banks.head.io.up <> arbs.head.io.down
-      io.counters.conflicts := Counters.count(io.l1.map(l => l.req.valid && !l.req.ready && arbs.head.io.down.req.fire))
+      val arb = Module(new MemArbiterTree(up, clients, maxOutstanding))
+      for (i <- 0 until clients) arb.io.up(i) <> io.l1(i)
+      banks.head.io.up <> arb.io.down
+      io.counters.conflicts := Counters.count(io.l1.map(l => l.req.valid && !l.req.ready && arb.io.down.req.fire))
+      Seq(arb.io.protocolError)
     case L2Structure.Banked(_) =>
-      lazy val respArbDef = Definition(new RespArbiter(up, n))
-      val bankBits = log2Ceil(n)
-      val lineBits = log2Ceil(bank.lineBytes)
-      val waits = for (i <- 0 until clients) yield {
-        val req = registered(io.l1(i).req)
-        val b = req.bits.addr(lineBits + bankBits - 1, lineBits)
-        for (k <- 0 until n) {
-          val port = arbs(k).io.up(i)
-          port.req.valid := req.valid && b === k.U
-          port.req.bits := req.bits
+      // The L1s in groups of eight (L2Group: their queues, each bank's arbiter over the group, the
+      // response merges), then each bank's arbiter over the groups: the tree MemArbiterTree builds,
+      // with the links between groups and banks, not between L1s and banks.
+      val members = (0 until clients).grouped(MemArbiterTree.FanIn).toSeq
+      val queued = members.size > 1
+      val groupDefs = members.map(_.size).distinct.map(m => m -> Definition(new L2Group(up, m, n, bank.lineBytes, maxOutstanding, queued))).toMap
+      val groups = members.map(m => Instance(groupDefs(m.size)))
+      for ((m, g) <- members.zip(groups); (l1, i) <- m.zipWithIndex) g.io.l1(i) <> io.l1(l1)
+      val took = for (k <- 0 until n) yield {
+        val toBank = if (!queued) groups.head.io.bank(k) else {
+          val outer = Module(new MemArbiter(groups.map(_.io.bank(k).p), maxOutstanding))
+          for ((g, j) <- groups.zipWithIndex) outer.io.up(j) <> g.io.bank(k)
+          outer.io.down
         }
-        req.ready := VecInit(arbs.map(_.io.up(i).req.ready))(b)
-        val respArb = Instance(respArbDef)
-        for (k <- 0 until n) respArb.io.in(k) <> arbs(k).io.up(i).resp
-        io.l1(i).resp <> registered(respArb.io.out)
-        req.valid && !req.ready && VecInit(arbs.map(_.io.down.req.fire))(b)
+        require(toBank.p == bank.up, s"the groups' tree changes the bank's port: ${toBank.p}, the bank takes ${bank.up}")
+        banks(k).io.up.req <> registered(toBank.req)
+        toBank.resp <> registered(banks(k).io.up.resp)
+        toBank.req.fire
       }
-      for (k <- 0 until n) {
-        banks(k).io.up.req <> registered(arbs(k).io.down.req)
-        arbs(k).io.down.resp <> registered(banks(k).io.up.resp)
-      }
-      io.counters.conflicts := Counters.count(waits)
+      for (g <- groups) g.io.bankTook := VecInit(took)
+      io.counters.conflicts := Counters.count(groups.flatMap(_.io.waits))
+      groups.map(_.io.protocolError)
   }
 
-  io.protocolError := (banks.map(_.io.protocolError) ++ arbs.map(_.io.protocolError)).reduce(_ || _)
+  io.protocolError := (banks.map(_.io.protocolError) ++ errors).reduce(_ || _)
   io.counters.hits := Counters.count(banks.map(_.io.events.hit))
   io.counters.misses := Counters.count(banks.map(_.io.events.miss))
 }

@@ -32,7 +32,7 @@ class RingEntry(p: MapmParams) extends Bundle {
   * queue, F the time the reserved SOM takes to free what the group needs (docs/mapm.md).
   *
   * Latency: a group's input queue (one cycle), then [[latency]] cycles from its grant to its SOM;
-  * a lane's freed entry is back in its token [[returnLatency]] + 1 cycles later. Throughput: one
+  * a lane's freed entry is back in its token [[returnLatency]] + 2 cycles later. Throughput: one
   * group a cycle per TSM and per SOM. Logic: N log N two-way selects of a group, N tokens of
   * a x log2(RS + 1) bits; no path through more than four select levels, and none from a SOM lane
   * to a TSM in one cycle (the queue's ready and head are registers).
@@ -78,13 +78,18 @@ class RingBus(p: MapmParams) extends Module {
     out
   }
 
-  // Returned credits: acc = the lanes' free counts less what the SOM took, one cycle late, so
-  // free - acc is what each lane's free count grew by besides the group the SOM took last cycle.
+  // Returned credits: the lanes' free counts enter through a register (no path from a SOM lane's
+  // state into the ring in one cycle), and `took` is delayed with them. acc = those free counts
+  // less what the SOM took, one cycle late, so free - acc is what each lane's free count grew by
+  // besides the group the SOM took: every credit comes back one cycle after the unregistered
+  // count would have brought it.
   private val zeroLanes = VecInit(Seq.fill(s)(VecInit(Seq.fill(a)(0.U(w.W)))))
   private val took = Wire(Vec(s, Vec(a, UInt(w.W))))
-  private val acc = RegNext(VecInit(io.free.zip(took).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }), zeroLanes)
-  private val grew = io.free.zip(acc).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }
-  for ((f, k) <- io.free.zip(acc); (x, y) <- f.zip(k))
+  private val free = RegNext(io.free, zeroLanes)
+  private val tookThen = RegNext(took, zeroLanes)
+  private val acc = RegNext(VecInit(free.zip(tookThen).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }), zeroLanes)
+  private val grew = free.zip(acc).map { case (f, k) => VecInit(f.zip(k).map { case (x, y) => x - y }) }
+  for ((f, k) <- free.zip(acc); (x, y) <- f.zip(k))
     assert(x >= y, "ring Data bus: a SOM lane's free count fell by more than the SOs it took")
   // Credits are narrow: their rotation takes ReturnLevelsPerStage levels a stage, the last one
   // straight into the tokens. The token that slot k holds `returnLatency` cycles from now is SOM

@@ -156,6 +156,21 @@ class StaSpec extends AnyFunSuite {
       assert(alone + (k - 2) * inv.delays.min < 1 / whole.fmaxGHz, s"$top alone needs $alone ns, the crossing ${1 / whole.fmaxGHz} ns")
     }
   }
+
+  test("timed whole, a configuration input (io_cfg...) starts no path: it holds its value for a frame") {
+    def invs(from: String, to: String, k: Int, p: String): String =
+      (0 until k).map { i =>
+        val in = if (i == 0) from else s"$p$i"; val out = if (i == k - 1) to else s"$p${i + 1}"
+        (if (i < k - 1) s"  wire $p${i + 1};\n" else "") + s"  INVX1 ${p}u$i (.A($in), .Y($out));\n"
+      }.mkString
+    val net = write("module top(clock, io_cfg_x, a, q, r);\n  input clock;\n  input io_cfg_x;\n  input a;\n  output q;\n  output r;\n" +
+      "  wire x;\n  wire y;\n" + invs("io_cfg_x", "x", 30, "c") + invs("a", "y", 3, "d") +
+      "  DFFPOSX1 rq (.CLK(clock), .D(x), .Q(q));\n  DFFPOSX1 rr (.CLK(clock), .D(y), .Q(r));\nendmodule\n")
+    val whole = Sta.timeWhole(Seq(net), "top", tools().osu018Lib, net.getParent.resolve("whole"))
+    val withCfg = 1 / sta(net, "top", Seq(0.1)).fmaxGHz
+    assert(whole.worst.forall(p => !p.startPoint.startsWith("io_cfg")), whole.worst.toString)
+    assert(1 / whole.fmaxGHz < withCfg / 3, s"whole ${1 / whole.fmaxGHz} ns, through the configuration input $withCfg ns")
+  }
 }
 
 object StaSpec {

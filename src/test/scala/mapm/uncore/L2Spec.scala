@@ -49,7 +49,9 @@ class L2Spec extends AnyFunSuite with Sim {
     (drams.map(_.requests.toSeq), streams)
   }
 
-  for ((clients, structure) <- Seq((4, L2Structure.Shared), (4, L2Structure.Banked(2)), (3, L2Structure.Banked(4)), (3, L2Structure.Banked(8)))) {
+  // Above eight L1s the banked network groups them (L2Group): 11 makes groups of 8 and 3, 17 of 8, 8 and 1.
+  for ((clients, structure) <- Seq((4, L2Structure.Shared), (4, L2Structure.Banked(2)), (3, L2Structure.Banked(4)), (3, L2Structure.Banked(8)),
+      (11, L2Structure.Banked(4)), (17, L2Structure.Banked(2)))) {
     test(s"$clients L1s over an L2 ${structure.name}: every read right; each bank fetches its own lines once; hits and misses exact") {
       simulate(l2(clients, structure, 8192)) { c =>
         for (seed <- 0 until 6) {
