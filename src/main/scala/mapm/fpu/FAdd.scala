@@ -2,6 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{instantiable, public}
 import mapm.numerics.FloatFormat
 
 /** Operands of [[FAdd]]: a and b, and `sub` to compute a - b instead of a + b. */
@@ -34,6 +35,7 @@ class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
   * [[FAdd.defaultStages]]; enabled cycles when stallable. Throughput: one operation per cycle;
   * `out.valid` is `in.valid` delayed by the latency.
   */
+@instantiable
 class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false, val direction: Boolean = false)
     extends Module with PlannedPipeline {
   def this(fmt: FloatFormat) = this(fmt, FAdd.defaultStages(fmt))
@@ -41,7 +43,7 @@ class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false
   override def desiredName: String =
     s"FAdd_${fmt.name}_s$stages${if (stallable) "_en" else ""}${if (direction) "_dir" else ""}"
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val in = Flipped(Valid(new FAddIn(fmt)))
     val out = Valid(UInt(fmt.width.W))
     /** Pipeline enable (stallable units only). */

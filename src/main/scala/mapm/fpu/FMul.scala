@@ -2,6 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{instantiable, public}
 import mapm.numerics.FloatFormat
 
 /** Pipelined floating-point multiplier: out = a * b, correctly rounded to nearest even in format
@@ -21,12 +22,13 @@ import mapm.numerics.FloatFormat
   * [[FMul.defaultStages]]. Throughput: one operation per cycle; `out.valid` is `in.valid` delayed
   * by the latency.
   */
+@instantiable
 class FMul(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPipeline {
   def this(fmt: FloatFormat) = this(fmt, FMul.defaultStages(fmt))
   def weights: Seq[Double] = FMul.weights(fmt)
   override def desiredName: String = s"FMul_${fmt.name}_s$stages"
 
-  val io = IO(new Bundle {
+  @public val io = IO(new Bundle {
     val in = Flipped(Valid(new FOperands(fmt)))
     val out = Valid(UInt(fmt.width.W))
   })

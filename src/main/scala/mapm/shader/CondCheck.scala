@@ -2,6 +2,7 @@ package mapm.shader
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{Definition, Instance}
 import mapm.fpu.{FAdd, FCmpLt, FMul, FpuDepth}
 import mapm.numerics.FloatFormat
 
@@ -56,8 +57,11 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth) ex
   })
 
   /** a + b (or a - b) in an [[FAdd]]; the operands' valid bits always agree and are ANDed. */
+  // The adders and multipliers are elaborated once each and instantiated.
+  private lazy val addDef = Definition(new FAdd(fmt, depth.add))
+  private lazy val mulDef = Definition(new FMul(fmt, depth.mul))
   private def add(a: Valid[UInt], b: Valid[UInt], sub: Boolean): Valid[UInt] = {
-    val u = Module(new FAdd(fmt, depth.add))
+    val u = Instance(addDef)
     u.io.in.valid := a.valid && b.valid
     u.io.in.bits.a := a.bits
     u.io.in.bits.b := b.bits
@@ -65,7 +69,7 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth) ex
     u.io.out
   }
   private def square(x: Valid[UInt]): Valid[UInt] = {
-    val u = Module(new FMul(fmt, depth.mul))
+    val u = Instance(mulDef)
     u.io.in.valid := x.valid
     u.io.in.bits.a := x.bits
     u.io.in.bits.b := x.bits

@@ -2,6 +2,7 @@ package mapm.shader
 
 import chisel3._
 import chisel3.util._
+import chisel3.experimental.hierarchy.{Definition, Instance}
 import mapm.fpu.{FDiv, FMul, FOperands, FloatFields, FpuDepth}
 import mapm.numerics.FloatFormat
 import mapm.params.Rgb
@@ -36,8 +37,9 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
   private def operands(u: Valid[FOperands], valid: Bool, a: UInt, b: UInt): Unit = {
     u.valid := valid; u.bits.a := a; u.bits.b := b
   }
+  private lazy val mulDef = Definition(new FMul(format, depth.mul)) // elaborated once, instantiated four times
   private def mul(valid: Bool, a: UInt, b: UInt): Valid[UInt] = {
-    val u = Module(new FMul(format, depth.mul)); operands(u.io.in, valid, a, b); u.io.out
+    val u = Instance(mulDef); operands(u.io.in, valid, a, b); u.io.out
   }
   private def div(valid: Bool, a: UInt, b: UInt): Valid[UInt] = {
     val u = Module(new FDiv(format, depth.div)); operands(u.io.in, valid, a, b); u.io.out

@@ -87,10 +87,11 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
       val queued = members.size > 1
       val groupDefs = members.map(_.size).distinct.map(m => m -> Definition(new L2Group(up, m, n, bank.lineBytes, maxOutstanding, queued))).toMap
       val groups = members.map(m => Instance(groupDefs(m.size)))
+      lazy val outerDef = Definition(new MemArbiter(groups.map(_.io.bank(0).p), maxOutstanding))
       for ((m, g) <- members.zip(groups); (l1, i) <- m.zipWithIndex) g.io.l1(i) <> io.l1(l1)
       val took = for (k <- 0 until n) yield {
         val toBank = if (!queued) groups.head.io.bank(k) else {
-          val outer = Module(new MemArbiter(groups.map(_.io.bank(k).p), maxOutstanding))
+          val outer = Instance(outerDef)
           for ((g, j) <- groups.zipWithIndex) outer.io.up(j) <> g.io.bank(k)
           outer.io.down
         }
