@@ -19,7 +19,8 @@ class CacheAccess(wordAddrBits: Int, idBits: Int) extends Bundle {
   val id = UInt(idBits.W)
 }
 
-/** A cache's hit and miss this cycle, for counters kept above it. */
+/** A cache's hit and miss of the lookup a cycle before ([[ReadOnlyCache.EventLatency]]), for
+  * counters kept above it. */
 class CacheEvents extends Bundle {
   /** An access whose line was present or already being refilled. */
   val hit = Bool()
@@ -226,9 +227,15 @@ class ReadOnlyCache(val cfg: CacheConfig) extends Module {
   respQ.io.enq.bits.last := true.B
   io.up.resp <> respQ.io.deq
 
-  io.events.hit := s1Done && hit
-  io.events.miss := allocGo
+  // Registered: the lookup's outcome is this part's longest logic, and the counters live above it.
+  io.events.hit := RegNext(s1Done && hit, false.B)
+  io.events.miss := RegNext(allocGo, false.B)
   io.counters.hits := Counters.count(Seq(io.events.hit), cfg.counterBits)
   io.counters.misses := Counters.count(Seq(io.events.miss), cfg.counterBits)
   io.counters.bytesFetched := Counters.accumulate(Mux(io.down.resp.fire, cfg.downBytes.U, 0.U), cfg.counterBits)
+}
+
+object ReadOnlyCache {
+  /** Cycles from a lookup to its hit or miss on `events`. */
+  val EventLatency = 1
 }

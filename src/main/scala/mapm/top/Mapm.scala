@@ -105,8 +105,10 @@ class Mapm(val p: MapmParams) extends Module {
 
 object Mapm {
   /** The cycles `done` waits after the MAPM falls idle: the longest any counter trails its events
-    * (the Register-queue peak, a max over the TSMs, or an event count). */
-  def counterSettle(p: MapmParams): Int = math.max(Counters.CountLatency, Counters.maxLatency(p.counts.tsm))
+    * (the Register-queue peak, a max over the TSMs, or an event count; a cache's hit or miss comes a
+    * cycle after its lookup). */
+  def counterSettle(p: MapmParams): Int =
+    math.max(Counters.CountLatency + mapm.memory.ReadOnlyCache.EventLatency, Counters.maxLatency(p.counts.tsm))
 
   /** The room that never slows a lane: what one lane may have on its way
     * ([[mapm.shader.SomLane.resultFifo]]). */
