@@ -25,7 +25,7 @@ class MapmParamsSpec extends AnyFunSuite {
   test("Table 4.8 presets cover its 24 rows") {
     assert(MapmParams.presets.size == 24)
     assert(MapmParams.presets("16/16/3").counts == ModuleCounts(16, 16, 3))
-    assert(MapmParams.default.name == "t16s16a2_e8m23_g3_b16" && MapmParams.dissertation.name == "t16s16a2_e8m23_g3")
+    assert(MapmParams.default.name == "t16s16a2_e8m23_g3_b16_ring" && MapmParams.dissertation.name == "t16s16a2_e8m23_g3")
     // A lighter stage weight deepens the cond check's units (FpuDepth.of: fp32 at 1.0 per stage).
     val deep = MapmParams(numbers = NumberParams(fpuStageWeight = 1.0))
     assert(mapm.fpu.FpuDepth.of(FloatFormat.fp32, deep.numbers.fpuStageWeight) == mapm.fpu.FpuDepth(11, 14, 1, 33))
