@@ -203,9 +203,14 @@ sealed abstract class Hierarchy(name: String) extends mapm.Choice(name) {
   def tsL1: CacheParams
   /** The L2 structures for module counts `c` and an SOP L2 of geometry `sopL2`. */
   def uncore(c: ModuleCounts, sopL2: CacheParams): UncoreParams
-  /** `p` with this hierarchy's L2 structures, SOQ and TS L1 geometries, for `p`'s module counts and SOP L2. */
-  def apply(p: MapmParams): MapmParams =
-    p.copy(caches = p.caches.copy(soq = soq, tsL1 = tsL1), uncore = uncore(p.counts, p.caches.sopL2))
+  /** `p` with this hierarchy's L2 structures, Data bus, SOQ and TS L1 geometries, for `p`'s module
+    * counts and SOP L2; the reservation stations gain or lose what the bus asks for a SOA
+    * ([[SoBus.extraRsPerSoa]]), as the command line's configurations do. */
+  def apply(p: MapmParams): MapmParams = {
+    val u = uncore(p.counts, p.caches.sopL2)
+    val rs = p.queues.rsEntries + (u.soBus.extraRsPerSoa - p.uncore.soBus.extraRsPerSoa) * p.counts.soaPerSom
+    p.copy(caches = p.caches.copy(soq = soq, tsL1 = tsL1), uncore = u, queues = p.queues.copy(rsEntries = rs))
+  }
 }
 object Hierarchy extends mapm.Choices[Hierarchy] {
   case object Table42 extends Hierarchy("table4.2") {

@@ -35,14 +35,15 @@ class MapmParamsSpec extends AnyFunSuite {
   test("presets: the default is the dissertation's MAPM with the scalable hierarchy, and the small one is what the command line's 1/1/1 gives") {
     // Table 4.8's 16/16/2 with 8 reservation-station entries per SOA is the dissertation's MAPM (section 4.1).
     assert(MapmParams.dissertation == MapmParams.presets("16/16/2"))
-    assert(MapmParams.default == MapmParams.dissertation.copy(uncore = UncoreParams(sopL2 = L2Structure.Banked(16)),
+    assert(MapmParams.default == MapmParams.dissertation.copy(uncore = UncoreParams(sopL2 = L2Structure.Banked(16), soBus = SoBus.Ring),
+      queues = MapmParams.dissertation.queues.copy(rsEntries = 20),
       caches = MapmParams.dissertation.caches.copy(soq = CacheParams(16384, 32, 4), tsL1 = CacheParams(16384, 64, 2))))
     assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3) == MapmParams.default)
     assert(Configure.of(16, 16, 2, FloatFormat.fp32, 3, tuning = Tuning(hierarchy = Hierarchy.Table42)) == MapmParams.dissertation)
     assert(MapmParams.dissertation.counts == ModuleCounts(16, 16, 2) && MapmParams.dissertation.queues.rsEntries == 16)
     val s = MapmParams.small
-    assert(s.counts == ModuleCounts(1, 1, 1) && s.name == "t1s1a1_e8m23_g3" && s.rsPerSoa == 8)
-    assert(s.caches == MapmParams.default.caches && s.numbers == MapmParams.dissertation.numbers && s.uncore == UncoreParams())
+    assert(s.counts == ModuleCounts(1, 1, 1) && s.name == "t1s1a1_e8m23_g3_ring" && s.rsPerSoa == 10)
+    assert(s.caches == MapmParams.default.caches && s.numbers == MapmParams.dissertation.numbers && s.uncore == UncoreParams(soBus = SoBus.Ring))
     assert(Configure.of(1, 1, 1, FloatFormat.fp32, 3) == s)
   }
 
