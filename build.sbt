@@ -91,6 +91,12 @@ lazy val root = (project in file("."))
     // The tests' Verilator builds compile their C++ at -O1: 41 % less compile time than -Os, and
     // the short test runs simulate as fast (src/main/scala/mapm/sim/Verilator.scala, docs/testing.md).
     Test / envVars += "MAPM_CXX_OPT" -> "-O1",
+    // Whole-MAPM harnesses at -O0: the tests' frames simulate in about a second at -O1, and -O0
+    // compiles each in about 45 % less CPU (docs/testing.md).
+    Test / envVars += "MAPM_HARNESS_CXX_OPT" -> "-O0",
+    // chiseltest's builds: Verilator 5.006 puts its OPT_FAST (-Os) after chiseltest's -O1, so they
+    // compiled at -Os; make takes variables from MAKEFLAGS as from its command line, so -O1 holds.
+    Test / envVars += "MAKEFLAGS" -> "OPT_FAST=-O1 OPT_SLOW=-O0 OPT_GLOBAL=-O1",
     Test / envVars ++= (if (onPath("ccache")) Map("OBJCACHE" -> "ccache", "CCACHE_BASEDIR" -> baseDirectory.value.getAbsolutePath)
                         else Map.empty[String, String]),
     // The groups below run at once (parallelExecution lets sbt start them together); the spec

@@ -40,6 +40,7 @@ object CostCommand extends Command {
       @arg(doc = "operations from: frame (the scene's SOs / TS ops; mul and div always take random digits) or random (seeded bit patterns)") stimulus: String = "frame",
       @arg(doc = "scene whose operations drive the simulation") scene: String = "test-scenes/cornell-box/scene.json",
       @arg(doc = "seed of the valid pattern and of random operations") seed: Long = 1,
+      @arg(name = "frame-stats", doc = "a render's stats.json of the same whole MAPM: energy per shader operation over that frame, logic and SRAM (cost.json methodB.energyPerSoNj)") frameStats: Option[String] = None,
       @arg(doc = "output directory") out: String = "out/cost",
       hw: HwOptions
   ): Int = {
@@ -55,15 +56,17 @@ object CostCommand extends Command {
     libPath.foreach(p => MapmError.check(Files.isRegularFile(p), s"cost: Liberty file $p not found"))
     MapmError.check(!compare.value || unit.forall(u => u == "soa" || u == "tsa"),
       "cost: --compare needs --unit soa or --unit tsa, or --tsm/--som/--soa for the whole MAPM")
-    val given = hw.tuning.describe
-    MapmError.check(unit.isEmpty || given.isEmpty,
-      s"cost: --${given.headOption.getOrElse("").takeWhile(_ != '=')} applies to a whole MAPM (--tsm/--som/--soa), not to --unit")
+    MapmError.check(frameStats.isEmpty || (counts.forall(_.isDefined) && !compare.value),
+      "cost: --frame-stats applies to a whole MAPM (--tsm/--som/--soa) without --compare")
+    val tuned = hw.tuning.describe
+    MapmError.check(unit.isEmpty || tuned.isEmpty,
+      s"cost: --${tuned.headOption.getOrElse("").takeWhile(_ != '=')} applies to a whole MAPM (--tsm/--som/--soa), not to --unit")
     val run = CostRun(format, g, fpuWeight, libPath, clocks, abc, ops, stimulus == "frame", scene, seed, Paths.get(out), hw.tuning)
     (unit, counts.flatten) match {
       case (Some(u), Seq()) if compare.value => run.compareUnits(u); 0
       case (Some(u), Seq()) => run.unit(u, arith); 0
       case (None, Seq(t, s, a)) if compare.value => run.compareSystems((t, s, a)); 0
-      case (None, Seq(t, s, a)) => run.config((t, s, a), arith); 0
+      case (None, Seq(t, s, a)) => run.config((t, s, a), arith, frameStats.map(Paths.get(_))); 0
       case (None, Seq()) => MapmError.fail("cost: give --unit U, or --tsm T --som S --soa A for a whole MAPM")
       case (Some(_), _) => MapmError.fail("cost: give either --unit or --tsm/--som/--soa, not both")
       case _ => MapmError.fail("cost: a whole MAPM needs all three of --tsm, --som and --soa")

@@ -116,16 +116,8 @@ object Sta {
           |exit
           |""".stripMargin
     Files.write(tcl, script.getBytes(StandardCharsets.UTF_8))
-    val sta = CostTools.get.sta
     val t0 = System.nanoTime()
-    val out = new StringBuilder
-    val rc = Process(Seq(sta.toString, "-no_init", "-no_splash", "-exit", tcl.toString), dir.toFile)
-      .!(ProcessLogger(l => out.append(l).append('\n'), l => out.append(l).append('\n')))
-    Files.write(dir.resolve("sta.log"), out.toString.getBytes(StandardCharsets.UTF_8))
-    val text = out.toString
-    val errors = text.linesIterator.filter(l => l.startsWith("Error") || l.contains("error:")).toSeq
-    if (rc != 0 || errors.nonEmpty || !text.contains("MAPM_FMAX_PERIOD"))
-      MapmError.fail(s"OpenSTA failed on $top: ${errors.headOption.getOrElse(s"exit $rc")} (log ${dir.resolve("sta.log")})")
+    val text = runSta(tcl, dir.resolve("sta.log"), s"on $top", "MAPM_FMAX_PERIOD", 0)
     Report(parseClocks(text), 1.0 / """MAPM_FMAX_PERIOD ([0-9.eE+-]+)""".r.findFirstMatchIn(text).get.group(1).toDouble,
       (System.nanoTime() - t0) / 1e9)
   }
@@ -184,18 +176,9 @@ object Sta {
           |""".stripMargin
     Files.write(tcl, script.getBytes(StandardCharsets.UTF_8))
     val t0 = System.nanoTime()
-    val out = new StringBuilder
-    // An address-space limit makes OpenSTA fail alone (an allocation error) on a design too large for
-    // the machine, rather than bring the kernel's out-of-memory killer onto the other processes.
-    val limit = if (memoryLimitBytes > 0) Seq("prlimit", s"--as=$memoryLimitBytes") else Seq.empty
-    val rc = Process(limit ++ Seq(CostTools.get.sta.toString, "-no_init", "-no_splash", "-exit", tcl.toString), dir.toFile)
-      .!(ProcessLogger(l => out.append(l).append('\n'), l => out.append(l).append('\n')))
-    Files.write(dir.resolve("sta-whole.log"), out.toString.getBytes(StandardCharsets.UTF_8))
-    val text = out.toString
-    val errors = text.linesIterator.filter(l => l.startsWith("Error") || l.contains("error:")).toSeq
+    val text = runSta(tcl, dir.resolve("sta-whole.log"), s"timing $top whole", "MAPM_WHOLE", memoryLimitBytes)
     val whole = ("""MAPM_WHOLE """ + num + """ """ + num).r.findFirstMatchIn(text)
-    if (rc != 0 || errors.nonEmpty || whole.isEmpty)
-      MapmError.fail(s"OpenSTA failed timing $top whole: ${errors.headOption.getOrElse(s"exit $rc")} (log ${dir.resolve("sta-whole.log")})")
+    MapmError.check(whole.isDefined, s"OpenSTA failed timing $top whole: no result line (log ${dir.resolve("sta-whole.log")})")
     val need = whole.get.group(1).toDouble
     MapmError.check(whole.get.group(2).toDouble >= 0, s"OpenSTA timing $top whole: the design misses the period it was found to need, ${need} ns (log ${dir.resolve("sta-whole.log")})")
     val worst = ("""MAPM_PATH (\S+) (\S+) """ + num + """ (\S*)""").r.findAllMatchIn(text)
@@ -207,6 +190,24 @@ object Sta {
   private val num = """(-?[0-9.]+(?:[eE][+-]?[0-9]+)?)"""
 
   /** The per-clock sections of the log. */
+  /** Runs OpenSTA on `tcl` in its folder, keeps its output in `log` and returns it; fails with one
+    * line when OpenSTA exits non-zero, prints an error or never prints `done` (its result line).
+    * A `memoryLimitBytes` above zero caps its address space (`prlimit`), so that a design too large
+    * for the machine makes OpenSTA fail alone (an allocation error) rather than bring the kernel's
+    * out-of-memory killer onto the other processes. */
+  private def runSta(tcl: Path, log: Path, what: String, done: String, memoryLimitBytes: Long): String = {
+    val out = new StringBuilder
+    val limit = if (memoryLimitBytes > 0) Seq("prlimit", s"--as=$memoryLimitBytes") else Seq.empty
+    val rc = Process(limit ++ Seq(CostTools.get.sta.toString, "-no_init", "-no_splash", "-exit", tcl.toString), tcl.getParent.toFile)
+      .!(ProcessLogger(l => out.append(l).append('\n'), l => out.append(l).append('\n')))
+    Files.write(log, out.toString.getBytes(StandardCharsets.UTF_8))
+    val text = out.toString
+    val errors = text.linesIterator.filter(l => l.startsWith("Error") || l.contains("error:")).toSeq
+    if (rc != 0 || errors.nonEmpty || !text.contains(done))
+      MapmError.fail(s"OpenSTA failed $what: ${errors.headOption.getOrElse(s"exit $rc")} (log $log)")
+    text
+  }
+
   private[cost] def parseClocks(text: String): Seq[AtClock] =
     text.split("MAPM_CLOCK ").drop(1).toSeq.map { sec =>
       val body = sec.split("MAPM_END")(0)

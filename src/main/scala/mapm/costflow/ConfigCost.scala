@@ -19,7 +19,8 @@ import mapm.MapmError
   *      flattened into them, so that ABC maps, buffers and sizes each of them whole. Each kept module's cells count
   *      once per instance. The caches' and Register-queue banks' SRAM arrays (`SyncReadMem`s) are
   *      black boxes: their bits are reported per block and their area estimated from a bit-cell
-  *      model ([[ConfigCost.SramModel]]); their power is not modelled, and says so.
+  *      model ([[ConfigCost.SramModel]]), their energy from the accesses of a rendered frame
+  *      ([[SramEnergy]]) when one is given.
   *
   * Timing and power of (b): each kept module without kept modules inside is analysed whole by
   * OpenSTA; the others (the top, the blocks, TSMs and SOM lanes around their L1 caches) for their
@@ -37,7 +38,7 @@ object ConfigCost {
     val cellUm2 = 5.59
     val efficiency = 0.70
     def areaUm2(bits: Long): Double = bits * cellUm2 / efficiency
-    val source = "6T bit cell of 5.59 um^2 (Intel 180 nm logic process, IEDM 1998) at 70 % array efficiency; power not modelled"
+    val source = "6T bit cell of 5.59 um^2 (Intel 180 nm logic process, IEDM 1998) at 70 % array efficiency"
   }
 
   /** The design synthesized for method (b): its top, module hierarchy and SRAM arrays, each
@@ -166,8 +167,9 @@ object ConfigCost {
 
   /** Method (b)'s figures from the synthesized design `d` and its `analyses`: fmax, logic area,
     * power at each clock, each by block, and the SRAM arrays' bits and modelled area. */
-  private def methodB(d: Synthesized, analyses: Seq[(Analysis, Sta.Report)], whole: Either[String, Sta.Whole], label: String,
-                      clocks: Seq[Double], meanActivity: Double): ujson.Obj = {
+  private def methodB(d: Synthesized, analyses: Seq[(Analysis, Sta.Report)], whole: Either[String, Sta.Whole], p: MapmParams,
+                      flow: CostFlow, meanActivity: Double, frame: Option[Frame]): ujson.Obj = {
+    val (label, clocks) = (p.counts.label, flow.clocksGHz)
     import d.{own, paths, mems, hier, block}
     val partsFmax = analyses.map(_._1.fmaxGHz).min
     val fmaxB = whole.fold(_ => partsFmax, w => math.min(w.fmaxGHz, partsFmax))
@@ -182,6 +184,27 @@ object ConfigCost {
       (per.map(_._2).sum, per.map(_._3).sum, per.groupBy(_._1).map { case (b, xs) => b -> xs.map(_._2).sum })
     }
     val sramBits = sramBy.values.sum
+    // Energy per shader operation over the frame, at method (b)'s fmax: the logic's dynamic energy
+    // per cycle (its power over its clock, the same at every clock) and leakage over the frame's
+    // time, and the SRAM arrays' accesses and leakage (SramEnergy).
+    val sramLeakMw = sramBits * SramEnergy.leakageMwPerBit(flow.library)
+    val energy: ujson.Value = frame.fold[ujson.Value](ujson.Null) { f =>
+      val st = f.stats
+      MapmError.check(st.soIssued > 0, s"cost: the frame ${f.path} issued no shader operations")
+      val (dyn, leak, _) = powerAt(0)
+      val seconds = st.cycles / (fmaxB * 1e9)
+      val logicNj = dyn / clocks.head * st.cycles / 1000.0 + leak * 1e-3 * seconds * 1e9
+      val arrays = SramEnergy.arrays(p, st)
+      val sramNj = arrays.map(_.dynamicNj).sum + sramLeakMw * 1e-3 * seconds * 1e9
+      val n = st.soIssued.toDouble
+      ujson.Obj("frame" -> f.path, "clockGHz" -> fmaxB, "cycles" -> st.cycles.toDouble, "shaderOperations" -> n,
+        "logic" -> logicNj / n, "sram" -> sramNj / n, "total" -> (logicNj + sramNj) / n,
+        "sramPowerMw" -> sramNj / seconds * 1e-6,
+        "sramByArray" -> ujson.Obj.from(arrays.map(a => a.name -> ujson.Obj("instances" -> a.instances, "depth" -> a.depth.toDouble,
+          "width" -> a.width, "reads" -> a.reads.toDouble, "writes" -> a.writes.toDouble, "readPj" -> a.readPj, "nJPerSo" -> a.dynamicNj / n))),
+        "note" -> ("logic: method (b)'s dynamic power at one global activity over its clock, times the frame's cycles, and leakage over " +
+          "its time at fmax; sram: every array access the frame's counters imply and the arrays' leakage"))
+    }
     ujson.Obj(
       "description" -> "every module synthesized once, parts kept whole, own cells x instances; SRAM arrays black-boxed",
       "fmaxGHz" -> fmaxB, "partsFmaxGHz" -> partsFmax, "slowest" -> ujson.Obj("module" -> slowest.root, "path" -> slowest.critical),
@@ -216,9 +239,26 @@ object ConfigCost {
       },
       "sram" -> ujson.Obj("model" -> SramModel.source, "bits" -> sramBits.toDouble,
         "bitsByBlock" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(sramBy.getOrElse(b, 0L).toDouble))),
-        "areaMm2" -> SramModel.areaUm2(sramBits) / 1e6, "powerMw" -> ujson.Null,
+        "areaMm2" -> SramModel.areaUm2(sramBits) / 1e6, "leakageMw" -> sramLeakMw,
+        "energyModel" -> SramEnergy.source,
         "arrays" -> ujson.Arr.from(mems.map(m => ujson.Obj("module" -> m, "width" -> hier.memories(m)._1,
-          "depth" -> hier.memories(m)._2, "instances" -> d.inst.getOrElse(m, 0L).toDouble)))))
+          "depth" -> hier.memories(m)._2, "instances" -> d.inst.getOrElse(m, 0L).toDouble)))),
+      "energyPerSoNj" -> energy)
+  }
+
+  /** A render of the configuration whose statistics give the energy per shader operation: its
+    * cycles, shader operations and cache counters. */
+  final case class Frame(path: String, stats: mapm.sim.HarnessStats)
+
+  /** The frame in `path` (a render's stats.json), checked to be of configuration `p`. */
+  def frame(path: Path, p: MapmParams): Frame = {
+    MapmError.check(Files.isRegularFile(path), s"cost: frame statistics $path not found (a render's stats.json)")
+    val st = mapm.sim.HarnessStats.read(path)
+    // The bare MAPM's or the coprocessor's render (the same MAPM, the same counters), full or timing fidelity.
+    val top = st.top.replace("_timing", "").replaceFirst("^MapmCoproc_", "Mapm_")
+    MapmError.check(top == s"Mapm_${p.name}", s"cost: the frame statistics $path are of ${st.top}, not of the costed Mapm_${p.name} (render it with the same options)")
+    MapmError.check(st.result == "PASS", s"cost: the frame in $path did not pass (${st.failure.getOrElse(st.result)})")
+    Frame(path.toString, st)
   }
 
   /** One OpenSTA analysis: a module (whole, or its own logic in a `shell`), its instances, its
@@ -229,7 +269,7 @@ object ConfigCost {
     * SOA's and TSA's unit costs, (b) from `p` synthesized, timed and powered at the flow's clocks
     * with the SOA's mean net activity `meanActivity`; intermediate files under `dir`. */
   def run(flow: CostFlow, p: MapmParams, soa: UnitCost, tsa: UnitCost, meanActivity: Double, dir: Path,
-          log: String => Unit): ujson.Obj = {
+          log: String => Unit, frame: Option[Frame] = None): ujson.Obj = {
     val (nSoa, nTsa) = (p.counts.som * p.counts.soaPerSom, p.counts.tsm)
     val fmaxA = math.min(soa.fmaxGHz, tsa.fmaxGHz)
     val d = synthesize(flow, p, dir, log)
@@ -242,7 +282,7 @@ object ConfigCost {
       "library" -> flow.libPath.getFileName.toString,
       "methodA" -> ujson.Obj("description" -> s"$nSoa SOAs x ${soa.top} + $nTsa TSAs x ${tsa.top} (dissertation Table 4.9)",
         "fmaxGHz" -> fmaxA, "atFmax" -> methodA(nSoa, nTsa, soa, tsa)(fmaxA), "clocks" -> ujson.Arr.from(flow.clocksGHz.map(methodA(nSoa, nTsa, soa, tsa)))),
-      "methodB" -> methodB(d, analyses, whole, p.counts.label, flow.clocksGHz, meanActivity),
+      "methodB" -> methodB(d, analyses, whole, p, flow, meanActivity, frame),
       "seconds" -> ujson.Obj("synthesis" -> d.seconds, "sta" -> staSecs))
   }
 
@@ -267,6 +307,11 @@ object ConfigCost {
     val s = b("sram")
     sb ++= f"    SRAM (not synthesized): ${s("bits").num}%.0f bits, ${s("areaMm2").num}%.3f mm^2 by ${s("model").str}\n"
     sb ++= "    SRAM bits by block: " + s("bitsByBlock").obj.map { case (k, v) => f"$k ${v.num}%.0f" }.mkString(", ") + "\n"
+    b.obj.get("energyPerSoNj").filter(_ != ujson.Null) match {
+      case Some(e) => sb ++= f"    energy per shader operation at ${e("clockGHz").num}%.3f GHz over ${e("frame").str}: logic ${e("logic").num}%.2f nJ, " +
+        f"SRAM ${e("sram").num}%.2f nJ, total ${e("total").num}%.2f nJ (SRAM ${e("sramPowerMw").num}%.0f mW)\n"
+      case None => sb ++= "    energy per shader operation: give --frame-stats (a render's stats.json of this MAPM)\n"
+    }
     val bounds = b("boundaries")("modules").arr
     sb ++= s"    combinational input-to-output paths: ${bounds.count(_("paths").num > 0)} of ${bounds.size} kept modules have some (" +
       bounds.filter(_("paths").num > 0).map(m => s"${m("module").str} ${m("paths").num.toLong}").mkString(", ") + ")" +

@@ -58,9 +58,10 @@ final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Op
 
   /** The whole MAPM `counts` (TSM/SOM/SOA) in arithmetic `arith` ([[ConfigCost]]): its SOA and TSA
     * through the flow, then the configuration; cost.json and cost.md. */
-  def config(counts: (Int, Int, Int), arith: Arith): ujson.Obj = {
+  def config(counts: (Int, Int, Int), arith: Arith, frameStats: Option[Path] = None): ujson.Obj = {
     val base0 = Configure.of(counts._1, counts._2, counts._3, format, g, arith = arith, tuning = tuning)
     val params = base0.copy(numbers = base0.numbers.copy(fpuStageWeight = fpuWeight))
+    val rendered = frameStats.map(ConfigCost.frame(_, params)) // checked before the long runs
     val frame = if (fromFrame) Some(frameOps) else None
     val source = if (fromFrame) s"SOs/TS ops of $scene" else s"random (seed $seed)"
     val units = Seq("soa", "tsa").map { k =>
@@ -72,7 +73,7 @@ final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Op
       (r, gl)
     }
     val j = ConfigCost.run(CostFlow(lib, clocks, abc, out.resolve("config")), params, units(0)._1, units(1)._1, units(0)._2.meanActivity,
-      out.resolve("config"), log)
+      out.resolve("config"), log, rendered)
     Files.createDirectories(out)
     Files.write(out.resolve("cost.json"), ujson.write(j, indent = 2).getBytes("UTF-8"))
     val md = ConfigCost.markdown(j)

@@ -47,9 +47,7 @@ class MemArbiterTree(up: MemPortParams, n: Int, maxOutstanding: Int, fanIn: Int 
     val outer = Module(new MemArbiter(innerDown, maxOutstanding))
     for ((g, a) <- groups.zip(inner); (i, k) <- g.zipWithIndex) a.io.up(k) <> io.up(i)
     for ((a, j) <- inner.zipWithIndex) {
-      val q = Instance(queueDefs(groups(j).size))
-      q.io.enq <> a.io.down.req
-      outer.io.up(j).req <> q.io.deq
+      outer.io.up(j).req <> RegFifo.registered(queueDefs(groups(j).size), a.io.down.req)
       a.io.down.resp <> outer.io.up(j).resp
     }
     io.down <> outer.io.down

@@ -2,7 +2,7 @@ package mapm.memory
 
 import chisel3._
 import chisel3.util._
-import chisel3.experimental.hierarchy.{instantiable, public}
+import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, public}
 
 /** A first-in first-out queue held in flip-flops, with the occupancy as an output.
   *
@@ -51,4 +51,20 @@ class RegFifo[T <: Data](gen: T, entries: Int, flow: Boolean = false) extends Mo
   }
   when(take) { head := next(head) }
   count := count + store.asUInt - take.asUInt
+}
+
+object RegFifo {
+  /** `in` through a new two-entry [[RegFifo]]: valid, bits and ready all leave a register. */
+  def registered[T <: Data](in: DecoupledIO[T]): DecoupledIO[T] = {
+    val f = Module(new RegFifo(chiselTypeOf(in.bits), 2))
+    f.io.enq <> in
+    f.io.deq
+  }
+
+  /** `in` through an instance of `d`, a queue elaborated once for many uses. */
+  def registered[T <: Data](d: Definition[RegFifo[T]], in: DecoupledIO[T]): DecoupledIO[T] = {
+    val f = Instance(d)
+    f.io.enq <> in
+    f.io.deq
+  }
 }

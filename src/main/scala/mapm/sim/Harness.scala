@@ -67,7 +67,7 @@ object Harness {
     val designFlags = if (configHeader.contains("#define MAPM_FIDELITY_TIMING 1")) timingFlags else Seq.empty
     val inputs = svs.zip(svTexts).map { case (f, t) => f.getFileName.toString + t } ++
       (sources ++ driver).map(f => f.getFileName.toString + new String(Files.readAllBytes(f), UTF_8)) :+ configHeader :+ formats :+ regs :+ vlt :+
-      s"trace=$trace threads=$threads" :+ (Verilator.optFlags ++ designFlags).mkString(" ")
+      s"trace=$trace threads=$threads" :+ (Verilator.harnessOptFlags ++ designFlags).mkString(" ")
     val name = s"$top${if (trace) "-fst" else ""}${if (threads > 1) s"-t$threads" else ""}"
     val t0 = System.nanoTime()
     var built = false
@@ -88,7 +88,7 @@ object Harness {
       val flags = designFlags ++ Seq("-f", fileList.toString, "-CFLAGS", s"-I${sourceDir.toAbsolutePath} -I${driverDir.toAbsolutePath} -I${exampleDir.toAbsolutePath} -I${tmp.toAbsolutePath} -std=c++17") ++
         (if (trace) Seq("--trace-fst") else Seq.empty) ++ (if (threads > 1) Seq("--threads", threads.toString) else Seq.empty)
       val main = sourceDir.resolve(if (coproc) "coproc.cpp" else "main.cpp").toAbsolutePath
-      Verilator.build(Seq.empty, main, top, tmp, "harness", flags, ccache = !fresh, log = log)
+      Verilator.build(Seq.empty, main, top, tmp, "harness", flags, ccache = !fresh, log = log, opt = Verilator.harnessOptFlags)
     }
     if (built) log(f"built in ${(System.nanoTime() - t0) / 1e9}%.1f s")
     dir.resolve("harness")

@@ -2,8 +2,8 @@ package mapm.uncore
 
 import chisel3._
 import chisel3.util._
-import chisel3.experimental.hierarchy.{Definition, Instance, instantiable, public}
-import mapm.memory.{CacheConfig, MemArbiter, MemArbiterTree, MemPort, MemPortParams, MemResp, ReadOnlyCache, RegFifo}
+import chisel3.experimental.hierarchy.{Definition, Instance}
+import mapm.memory.{CacheConfig, MemArbiter, MemArbiterTree, MemPort, MemPortParams, ReadOnlyCache, RegFifo}
 import mapm.params.L2Structure
 import mapm.util.Counters
 
@@ -65,13 +65,6 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
   for (b <- 0 until n) io.mem(b) <> banks(b).io.down
   private val maxOutstanding = 4 * clients
 
-  /** `in` through a two-entry register FIFO: valid, bits and ready all leave a register. */
-  private def registered[T <: Data](in: DecoupledIO[T]): DecoupledIO[T] = {
-    val f = Module(new RegFifo(chiselTypeOf(in.bits), 2))
-    f.io.enq <> in
-    f.io.deq
-  }
-
   private val errors: Seq[Bool] = structure match {
     case L2Structure.Shared =>
       val arb = Module(new MemArbiterTree(up, clients, maxOutstanding))
@@ -96,8 +89,8 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
           outer.io.down
         }
         require(toBank.p == bank.up, s"the groups' tree changes the bank's port: ${toBank.p}, the bank takes ${bank.up}")
-        banks(k).io.up.req <> registered(toBank.req)
-        toBank.resp <> registered(banks(k).io.up.resp)
+        banks(k).io.up.req <> RegFifo.registered(toBank.req)
+        toBank.resp <> RegFifo.registered(banks(k).io.up.resp)
         toBank.req.fire
       }
       for (g <- groups) g.io.bankTook := VecInit(took)
@@ -108,14 +101,4 @@ class L2(what: String, clients: Int, up: MemPortParams, val bank: CacheConfig, v
   io.protocolError := (banks.map(_.io.protocolError) ++ errors).reduce(_ || _)
   io.counters.hits := Counters.count(banks.map(_.io.events.hit))
   io.counters.misses := Counters.count(banks.map(_.io.events.miss))
-}
-
-/** The round-robin merge of `n` banks' response beats for one L1 (Chisel's `RRArbiter`), as a
-  * module of its own that an L2 elaborates once. Latency: none. Throughput: one beat per cycle. */
-@instantiable
-class RespArbiter(up: MemPortParams, n: Int) extends Module {
-  override def desiredName = s"RespArbiter_n$n"
-  @public val io = IO(new ArbiterIO(new MemResp(up), n))
-  private val a = Module(new RRArbiter(new MemResp(up), n))
-  io <> a.io
 }

@@ -43,11 +43,6 @@ class L2Group(up: MemPortParams, members: Int, banks: Int, lineBytes: Int, maxOu
     val protocolError = Output(Bool())
   })
 
-  private def registered[T <: Data](d: Definition[RegFifo[T]], in: DecoupledIO[T]): DecoupledIO[T] = {
-    val f = Instance(d)
-    f.io.enq <> in
-    f.io.deq
-  }
   private val reqQ = Definition(new RegFifo(new MemReq(up), 2))
   private val respQ = Definition(new RegFifo(new MemResp(up), 2))
   private lazy val linkQ = Definition(new RegFifo(new MemReq(linkParams), 2)) // only when `queued`: an unused definition's reset is never inferred
@@ -58,7 +53,7 @@ class L2Group(up: MemPortParams, members: Int, banks: Int, lineBytes: Int, maxOu
   private val bankBits = log2Ceil(banks)
   private val lineBits = log2Ceil(lineBytes)
   for (i <- 0 until members) {
-    val req = registered(reqQ, io.l1(i).req)
+    val req = RegFifo.registered(reqQ, io.l1(i).req)
     val b = req.bits.addr(lineBits + bankBits - 1, lineBits)
     for (k <- 0 until banks) {
       val port = arbs(k).io.up(i)
@@ -69,11 +64,21 @@ class L2Group(up: MemPortParams, members: Int, banks: Int, lineBytes: Int, maxOu
     io.waits(i) := req.valid && !req.ready && io.bankTook(b)
     val merge = Instance(respArbDef)
     for (k <- 0 until banks) merge.io.in(k) <> arbs(k).io.up(i).resp
-    io.l1(i).resp <> registered(respQ, merge.io.out)
+    io.l1(i).resp <> RegFifo.registered(respQ, merge.io.out)
   }
   for (k <- 0 until banks) {
-    io.bank(k).req <> (if (queued) registered(linkQ, arbs(k).io.down.req) else arbs(k).io.down.req)
+    io.bank(k).req <> (if (queued) RegFifo.registered(linkQ, arbs(k).io.down.req) else arbs(k).io.down.req)
     arbs(k).io.down.resp <> io.bank(k).resp
   }
   io.protocolError := arbs.map(_.io.protocolError).reduce(_ || _)
+}
+
+/** The round-robin merge of `n` banks' response beats for one L1 (Chisel's `RRArbiter`), as a
+  * module of its own that an L2 elaborates once. Latency: none. Throughput: one beat per cycle. */
+@instantiable
+class RespArbiter(up: MemPortParams, n: Int) extends Module {
+  override def desiredName = s"RespArbiter_n$n"
+  @public val io = IO(new ArbiterIO(new MemResp(up), n))
+  private val a = Module(new RRArbiter(new MemResp(up), n))
+  io <> a.io
 }

@@ -125,15 +125,21 @@ class CostCommandSpec extends AnyFunSuite {
     assert(GateLevel.run(u, broken, lib, ops, 5).mismatches > 0)
   }
 
-  test("cost --tsm 1 --som 1 --soa 1 --compare at e5m4: both MAPMs render and pass; the system table follows the reports") {
-    tools()
-    assume(mapm.testutil.HostTools.onPath("verilator"), "verilator is not on PATH")
-    val out = Files.createTempDirectory("mapm-cost-system")
-    val scene = out.resolve("tiny.json")
+  /** A 4 x 3 Cornell-box frame of 100 photons, written into `dir`. */
+  private def tinyScene(dir: Path): Path = {
+    val scene = dir.resolve("tiny.json")
     Files.write(scene, (s"""{ "obj": "${mapm.model.TestScenes.cornellObj.toAbsolutePath}",
       |  "camera": { "position": [278, 273, -530], "direction": [0, 0, 1], "up": [0, 1, 0], "fov": 39.3 },
       |  "lights": [ { "type": "point", "position": [1, 25, 1], "power": [100000, 100000, 100000] } ],
       |  "width": 4, "height": 3, "finalGatherRays": 2, "photons": 100, "maxBounces": 3, "h": 100, "seed": 3 }""".stripMargin).getBytes("UTF-8"))
+    scene
+  }
+
+  test("cost --tsm 1 --som 1 --soa 1 --compare at e5m4: both MAPMs render and pass; the system table follows the reports") {
+    tools()
+    assume(mapm.testutil.HostTools.onPath("verilator"), "verilator is not on PATH")
+    val out = Files.createTempDirectory("mapm-cost-system")
+    val scene = tinyScene(out)
     val (rc, text) = runCost("--tsm", "1", "--som", "1", "--soa", "1", "--format", "5,4", "--compare", "--scene", scene.toString,
       "--ops", "512", "--clock", "0.05,0.1", "--abc", "buffer", "--out", out.toString)
     assert(rc == 0 && text.contains("online / conventional"), text)
@@ -155,11 +161,17 @@ class CostCommandSpec extends AnyFunSuite {
     assert(c("online")("soIssued").num == c("conventional")("soIssued").num, "the same SOs: the TSAs decide alike")
   }
 
-  test("cost --tsm 1 --som 1 --soa 1 at e5m4: (a) is the unit figures, (b) every module's cells and the SRAM bits") {
+  test("cost --tsm 1 --som 1 --soa 1 at e5m4: (a) is the unit figures, (b) every module's cells, the SRAM bits, the energy per SO over a frame") {
     tools()
+    assume(mapm.testutil.HostTools.onPath("verilator"), "verilator is not on PATH")
     val out = Files.createTempDirectory("mapm-cost-config")
+    // The frame whose counters give the energy per shader operation: the same MAPM, rendered bare.
+    val scene = tinyScene(out)
+    assert(RenderCommand.render(tsm = 1, som = 1, soa = 1, bare = mainargs.Flag(true),
+      options = RtlOptions(scene = scene.toString, format = Some(FloatFormat(5, 4)), out = out.resolve("frame").toString, threads = 2)) == 0)
+    val frame = out.resolve("frame").resolve(s"${mapm.pipeline.ModelRun.sceneName(scene)}-rtl-stats.json")
     val (rc, text) = runCost("--tsm", "1", "--som", "1", "--soa", "1", "--format", "5,4", "--stimulus", "random",
-      "--ops", "512", "--clock", "0.05,0.1", "--abc", "buffer", "--so-bus", "ring", "--out", out.toString)
+      "--ops", "512", "--clock", "0.05,0.1", "--abc", "buffer", "--so-bus", "ring", "--frame-stats", frame.toString, "--out", out.toString)
     assert(rc == 0 && text.contains("(a) 1 SOAs"), text)
     val j = ujson.read(Files.readAllBytes(out.resolve("cost.json")))
     val soa = ujson.read(Files.readAllBytes(out.resolve("soa").resolve("cost.json")))
@@ -188,7 +200,21 @@ class CostCommandSpec extends AnyFunSuite {
     def memBits(m: String): Long = bits.getOrElse(m, 0L) + """(?m)^\s+(\w+)\s+\w+\s*\(""".r.findAllMatchIn(mods(m))
       .map(_.group(1)).filter(mods.contains).map(memBits).sum
     assert(bits.nonEmpty && b("sram")("bits").num == memBits(top).toDouble)
-    assert(b("sram")("powerMw").isNull)
+    // Energy per SO over the frame at method (b)'s fmax: the logic's energy per cycle (dynamic power
+    // over its clock) and leakage over the frame's time; the SRAM arrays' accesses and leakage.
+    val e = b("energyPerSoNj")
+    val st = ujson.read(Files.readAllBytes(frame))
+    val (cyc, sos, f) = (st("cycles").num, st("soIssued").num, b("fmaxGHz").num)
+    assert(e("cycles").num == cyc && e("shaderOperations").num == sos && e("clockGHz").num == f)
+    val c0 = b("clocks")(0)
+    val logicNj = (c0("dynamicPowerMw").num / c0("clockGHz").num * cyc / 1000 + c0("leakagePowerMw").num * cyc / f / 1000) / sos
+    assert(math.abs(e("logic").num - logicNj) < 1e-9 * logicNj, s"logic ${e("logic")} nJ, from the clocks $logicNj")
+    val sramLeakNj = b("sram")("leakageMw").num * cyc / f / 1000
+    val sramDyn = e("sramByArray").obj.values.map(_("nJPerSo").num).sum
+    assert(math.abs(e("sram").num - (sramDyn + sramLeakNj / sos)) < 1e-9 * e("sram").num)
+    assert(math.abs(e("total").num - (e("logic").num + e("sram").num)) < 1e-12 * e("total").num)
+    // The tags of the one SOP L1 bank are read every cycle.
+    assert(e("sramByArray")("sopL1 tags")("reads").num == cyc && text.contains("energy per shader operation"))
     // Each part alone, then the whole netlist timed at once: no faster than its slowest part alone
     // (every part's paths are in it, with later inputs and real loads), and it sets fmax.
     val mins = b("modules").arr.map(_("fmaxGHz").num)
@@ -232,5 +258,16 @@ class CostCommandSpec extends AnyFunSuite {
     assert(err("--unit", "tsa", "--tsm", "1", "--som", "1", "--soa", "1").contains("not both"))
     assert(err("--unit", "soa", "--format", "5,2").contains("at least 4 fraction bits"))
     assert(err("--unit", "tsa", "--format", "3,3", "--stimulus", "frame").contains("--stimulus random"))
+    assert(err("--unit", "tsa", "--frame-stats", "x.json").contains("--frame-stats applies to a whole MAPM"))
+    assert(err("--tsm", "1", "--som", "1", "--soa", "1", "--frame-stats", "/nonexistent/s.json").contains("frame statistics /nonexistent/s.json not found"))
+    // Statistics of another configuration: named, before any synthesis.
+    val other = Files.createTempFile("mapm-frame", ".json")
+    Files.write(other, ("""{"top": "Mapm_t2s2a2_e8m23_g3_ring", "result": "PASS", "failure": null, "seed": 1, "latency": 0,
+      | "latencyMax": 0, "queryGap": 0, "reqStall": 0, "respGap": 0, "bandwidthBytesPerCycle": 0, "clockGHz": 0.3, "cycles": 10,
+      | "queries": 1, "queriesCompleted": 1, "soIssued": 5, "soPassingCond": 1, "soPerCycle": 0.5, "tsOps": 3, "tsOpsPerCycle": 0.3,
+      | "stallCycles": {}, "caches": {}, "memoryRequests": 1, "bytesFetched": 64, "bytesPerCycle": 6.4, "gbPerSecond": 1,
+      | "counters": {}, "wallSeconds": 1, "simulatedCyclesPerSecond": 10}""".stripMargin).getBytes("UTF-8"))
+    val wrong = err("--tsm", "1", "--som", "1", "--soa", "1", "--frame-stats", other.toString)
+    assert(wrong.contains("t2s2a2") && wrong.contains("Mapm_t1s1a1_e8m23_g3_ring"), wrong)
   }
 }
