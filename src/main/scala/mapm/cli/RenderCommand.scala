@@ -77,7 +77,7 @@ object RenderCommand extends Command {
     def seconds(ts: Seq[(String, Double)]) = ujson.Obj.from(ts.map { case (k, v) => k -> ujson.Num(v) })
     json.value ++= Seq("scene" -> ujson.Str(opts.scene), "format" -> ujson.Str(f.format.toString), "g" -> ujson.Num(opts.g),
       "arith" -> ujson.Str(opts.arith.name),
-      "config" -> ujson.Str(p.counts.label), "width" -> ujson.Num(f.width), "height" -> ujson.Num(f.height),
+      "configuration" -> ujson.Str(p.counts.label), "width" -> ujson.Num(f.width), "height" -> ujson.Num(f.height),
       "modelTsOps" -> ujson.Num(prep.model.tsOps.toDouble), "modelShaderOps" -> ujson.Num(prep.model.count.toDouble),
       "modelShaderOpsPassingCond" -> ujson.Num(prep.model.passing.toDouble),
       "perSoCheck" -> ujson.Str(run.outcome.verdict), "frameEqualsModel" -> (if (compare) ujson.Bool(run.frameEqual) else ujson.Null),
