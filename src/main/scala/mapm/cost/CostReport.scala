@@ -21,6 +21,11 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
   /** Dynamic energy per clock cycle (pJ) at the measured activity: OpenSTA's dynamic power is
     * this energy times the clock, at every clock. */
   def dynamicPjPerCycle: Double = clocks.head.dynamicMw / clocks.head.clockGHz
+  /** Dynamic energy per operation (nJ) at the measured activity: a cycle's energy over the
+    * operations a cycle carries (the gate-level run's valid rate, the unit's share of a 16/16/2
+    * frame's cycles), so every idle cycle's clock and flip-flop energy is charged to the work. */
+  def energyPerOpNj: Option[Double] =
+    activity.value.get("validRate").flatMap(_.numOpt).filter(_ > 0).map(r => dynamicPjPerCycle / r / 1000)
   /** Dynamic power (mW) at clock `ghz`. */
   def dynamicMwAt(ghz: Double): Double = dynamicPjPerCycle * ghz
 
@@ -29,6 +34,7 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     "library" -> library, "abc" -> abc, "fmaxGHz" -> fmaxGHz,
     "atFmax" -> ujson.Obj("clockGHz" -> fmaxGHz, "dynamicPowerMw" -> dynamicMwAt(fmaxGHz),
       "leakagePowerMw" -> clocks.head.leakageMw, "dynamicPjPerCycle" -> dynamicPjPerCycle),
+    "energyPerOpNj" -> energyPerOpNj.map(ujson.Num(_)).getOrElse(ujson.Null),
     "areaUm2" -> areaUm2, "seqAreaUm2" -> seqAreaUm2, "combAreaUm2" -> combAreaUm2,
     "criticalPath" -> ujson.Obj("start" -> criticalStart, "end" -> criticalEnd),
     "cells" -> ujson.Obj.from(cells.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
@@ -50,7 +56,8 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     for (c <- clocks)
       sb ++= f"| ${c.clockGHz}%.3f | ${if (c.slackMet) "yes" else "no"} | ${c.worstSlackNs}%.3f | ${c.dynamicMw}%.3f | ${c.leakageMw * 1e3}%.3f | $areaUm2%.0f |\n"
     sb ++= f"\nfmax $fmaxGHz%.3f GHz (critical path $criticalStart -> $criticalEnd); dynamic power at fmax " +
-      f"${dynamicMwAt(fmaxGHz)}%.3f mW ($dynamicPjPerCycle%.1f pJ per cycle); area $areaUm2%.0f um^2 " +
+      f"${dynamicMwAt(fmaxGHz)}%.3f mW ($dynamicPjPerCycle%.1f pJ per cycle" +
+      energyPerOpNj.fold("")(e => f", $e%.3f nJ per operation") + f"); area $areaUm2%.0f um^2 " +
       f"(sequential $seqAreaUm2%.0f, combinational $combAreaUm2%.0f), ${cells.values.sum} cells\n"
     sb ++= f"gate-level check: ${check("operations").num}%.0f operations, ${check("mismatches").num}%.0f mismatches; " +
       f"mean net activity ${activity("meanActivity").num}%.3f toggles/cycle\n"

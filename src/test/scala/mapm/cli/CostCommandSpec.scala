@@ -64,6 +64,9 @@ class CostCommandSpec extends AnyFunSuite {
     }
     val a = j("activity")
     assert(a("meanActivity").num > 0 && a("meanActivity").num < 1 && a("cycles").num > 0)
+    // Energy per operation: a cycle's dynamic energy (power over clock) over the operations a cycle carries.
+    val perCycle = clocks.head("dynamicPowerMw").num / clocks.head("clockGHz").num
+    assert(math.abs(j("energyPerOpNj").num - perCycle / a("validRate").num / 1000) < 1e-9 * j("energyPerOpNj").num)
     assert(Files.isRegularFile(out.resolve("cost.md")))
   }
 
