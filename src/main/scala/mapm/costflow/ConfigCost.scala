@@ -3,8 +3,8 @@ package mapm.costflow
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
 import mapm.cost._
-import mapm.sim.Emit
-import mapm.params.MapmParams
+import mapm.sim.{Emit, MapmRtl}
+import mapm.params.{Fidelity, MapmParams}
 import mapm.top.Mapm
 import mapm.util.{Boundary, CostBlock}
 import mapm.MapmError
@@ -255,8 +255,8 @@ object ConfigCost {
     MapmError.check(Files.isRegularFile(path), s"cost: frame statistics $path not found (a render's stats.json)")
     val st = mapm.sim.HarnessStats.read(path)
     // The bare MAPM's or the coprocessor's render (the same MAPM, the same counters), full or timing fidelity.
-    val top = st.top.replace("_timing", "").replaceFirst("^MapmCoproc_", "Mapm_")
-    MapmError.check(top == s"Mapm_${p.name}", s"cost: the frame statistics $path are of ${st.top}, not of the costed Mapm_${p.name} (render it with the same options)")
+    val tops = for (f <- Fidelity.all; c <- Seq(false, true)) yield MapmRtl.topName(p.copy(sim = p.sim.copy(fidelity = f, coproc = c)))
+    MapmError.check(tops.contains(st.top), s"cost: the frame statistics $path are of ${st.top}, not of the costed ${MapmRtl.topName(p)} (render it with the same options)")
     MapmError.check(st.result == "PASS", s"cost: the frame in $path did not pass (${st.failure.getOrElse(st.result)})")
     Frame(path.toString, st)
   }

@@ -68,7 +68,7 @@ object SramEnergy {
         val c = st.caches.getOrElse(name, MapmError.fail(s"cost: the frame's statistics have no counters of the $name cache"))
         (c.hits, c.misses)
       }
-      val tagWidth = cfg.ways * (1 + cfg.tagBits) + cfg.plruBits
+      val tagWidth = new mapm.memory.TagRow(cfg).getWidth
       val lineBits = cfg.beatsPerLine * cfg.down.dataBits
       Seq(Array(s"$name tags", 1L << (cfg.setBits max 1), tagWidth, n, cycles * n, hits + misses, tagWidth),
           Array(s"$name data", cfg.hw.lines, lineBits, n, hits + misses, misses * cfg.beatsPerLine, cfg.down.dataBits))

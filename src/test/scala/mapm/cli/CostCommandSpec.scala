@@ -265,11 +265,9 @@ class CostCommandSpec extends AnyFunSuite {
     assert(err("--tsm", "1", "--som", "1", "--soa", "1", "--frame-stats", "/nonexistent/s.json").contains("frame statistics /nonexistent/s.json not found"))
     // Statistics of another configuration: named, before any synthesis.
     val other = Files.createTempFile("mapm-frame", ".json")
-    Files.write(other, ("""{"top": "Mapm_t2s2a2_e8m23_g3_ring", "result": "PASS", "failure": null, "seed": 1, "latency": 0,
-      | "latencyMax": 0, "queryGap": 0, "reqStall": 0, "respGap": 0, "bandwidthBytesPerCycle": 0, "clockGHz": 0.3, "cycles": 10,
-      | "queries": 1, "queriesCompleted": 1, "soIssued": 5, "soPassingCond": 1, "soPerCycle": 0.5, "tsOps": 3, "tsOpsPerCycle": 0.3,
-      | "stallCycles": {}, "caches": {}, "memoryRequests": 1, "bytesFetched": 64, "bytesPerCycle": 6.4, "gbPerSecond": 1,
-      | "counters": {}, "wallSeconds": 1, "simulatedCyclesPerSecond": 10}""".stripMargin).getBytes("UTF-8"))
+    val stats = mapm.testutil.StatsFixture.json(cycles = 10, so = 5, ts = 3, bytes = 64, soqMisses = 1)
+    stats("top") = "Mapm_t2s2a2_e8m23_g3_ring"
+    Files.write(other, ujson.write(stats).getBytes("UTF-8"))
     val wrong = err("--tsm", "1", "--som", "1", "--soa", "1", "--frame-stats", other.toString)
     assert(wrong.contains("t2s2a2") && wrong.contains("Mapm_t1s1a1_e8m23_g3_ring"), wrong)
   }

@@ -44,22 +44,16 @@ class SramEnergySpec extends AnyFunSuite {
 
   test("one frame's accesses at 1/1/1, counted by hand from its counters") {
     val p = Configure.of(1, 1, 1, FloatFormat.fp32, 3)
-    val st = HarnessStats.parse(
-      """{"top": "Mapm_x", "result": "PASS", "failure": null, "seed": 1, "latency": 0, "latencyMax": 0, "queryGap": 0, "reqStall": 0, "respGap": 0,
-        | "bandwidthBytesPerCycle": 0, "clockGHz": 0.3, "cycles": 1000, "queries": 10, "queriesCompleted": 10, "soIssued": 500,
-        | "soPassingCond": 100, "soPerCycle": 0.5, "tsOps": 300, "tsOpsPerCycle": 0.3, "stallCycles": {},
-        | "caches": {"tsL1": {"hits": 280, "misses": 20, "hitRate": 0.93}, "tsL2": {"hits": 5, "misses": 15, "hitRate": 0.25},
-        |            "soq": {"hits": 0, "misses": 10, "hitRate": 0}, "sopL1": {"hits": 400, "misses": 100, "hitRate": 0.8},
-        |            "sopL2": {"hits": 60, "misses": 40, "hitRate": 0.6}},
-        | "memoryRequests": 65, "bytesFetched": 4000, "bytesPerCycle": 4, "gbPerSecond": 1.2, "counters": {}, "counterUnits": {},
-        | "wallSeconds": 1, "simulatedCyclesPerSecond": 1000}""".stripMargin, "hand-made")
+    // 1,000 cycles, 500 SOs, 300 TS ops; every cache 900 hits and 100 misses, the SOQ 10 misses.
+    val st = HarnessStats.parse(ujson.write(mapm.testutil.StatsFixture.json(cycles = 1000, so = 500, ts = 300, bytes = 4000, soqMisses = 10)), "fixture")
     val a = SramEnergy.arrays(p, st).map(x => x.name -> x).toMap
     // The SOP L1 (one bank): its tags read every one of the 1,000 cycles, written at each of its
-    // 500 lookups; its data read at each lookup and written once per refill beat (one a line).
+    // 1,000 lookups; its data read at each lookup and written once per refill beat (one a line).
     val sopL1Beats = mapm.uncore.Shapes(p).sopL1.beatsPerLine
-    assert(a("sopL1 tags").reads == 1000 && a("sopL1 tags").writes == 500)
-    assert(a("sopL1 data").reads == 500 && a("sopL1 data").writes == 100 * sopL1Beats)
-    assert(a("tsL2 data").reads == 20 && a("soq data").reads == 10)
+    assert(a("sopL1 tags").reads == 1000 && a("sopL1 tags").writes == 1000)
+    assert(a("sopL1 data").reads == 1000 && a("sopL1 data").writes == 100 * sopL1Beats)
+    // The SOQ: 910 lookups, 10 lines of two 16-byte beats each.
+    assert(a("soq data").reads == 910 && a("soq data").writes == 20 && a("soq tags").writes == 910)
     // Two Register-queue banks, each read every cycle; one write per TS op.
     assert(a("Register queue").reads == 2000 && a("Register queue").writes == 300)
     val total = a.values.map(_.dynamicNj).sum
