@@ -3,6 +3,7 @@ package mapm.arith
 import chisel3._
 import chisel3.util._
 import mapm.numerics.FloatFormat
+import mapm.util.StageClocks
 
 /** Special-case classes of one channel, decided from the input bit patterns (shader-chain.md §2
   * rules 1 and 2). */
@@ -24,12 +25,15 @@ class ShaderSpecial extends Bundle {
   * cycle c+N, together with the last digit. On-the-fly registers follow the digits through
   * cycles c+1 … c+N−1; the last digit, normalization and packing take cycle c+N, and `bits` and
   * `flags` are registered: they appear from cycle c+N+1. One operation per cycle.
+  *
+  * With `gated`, `clocks(k)` clocks the registers that load at the end of cycle c+k+1 (k = 0 …
+  * N−1).
   */
-class NormalizePack(format: FloatFormat, digits: Int) extends Module {
+class NormalizePack(format: FloatFormat, digits: Int, gated: Boolean = false) extends Module {
   private val n = format.manWidth + 1
   private val ew = format.expWidth
   require(digits >= n && digits >= 5, s"NormalizePack: N = $digits for n = $n")
-  override def desiredName = s"NormalizePack_${format.name}_N$digits"
+  override def desiredName = s"NormalizePack_${format.name}_N$digits${StageClocks.suffix(gated)}"
 
   val io = IO(new Bundle {
     val digits = Input(Vec(NormalizePack.this.digits, new SignedDigit))
@@ -40,14 +44,17 @@ class NormalizePack(format: FloatFormat, digits: Int) extends Module {
     val bits = Output(UInt(format.width.W))
     /** OVF = 1, UNF = 2, INV = 4. */
     val flags = Output(UInt(3.W))
+    /** clocks(k): the clock of the registers loading in cycle c+k+1 (with `gated`). */
+    val clocks = StageClocks.port(NormalizePack.this.digits, gated)
   })
+  private val sc = new StageClocks(io.clocks)
 
   // On-the-fly conversion along the skew: (Q, QM) after digit i is registered for digit i+1.
   // Only the fraction bits are kept: V > 0, and a sign bit never moves into a fraction bit.
   var (q, qm) = OnTheFly.init
   for (i <- 1 until digits) {
     val (nq, nqm) = OnTheFly.append(q, qm, io.digits(i - 1))
-    q = StageReg(nq(i - 1, 0)); qm = StageReg(nqm(i - 1, 0))
+    q = sc.reg(nq(i - 1, 0), i - 1); qm = sc.reg(nqm(i - 1, 0), i - 1)
   }
   val v = OnTheFly.append(q, qm, io.digits(digits - 1))._1
 
@@ -77,6 +84,6 @@ class NormalizePack(format: FloatFormat, digits: Int) extends Module {
   }.otherwise {
     bits := Cat(io.sign, er(ew - 1, 0), sig(n - 2, 0)); flags := 0.U
   }
-  io.bits := StageReg(bits)
-  io.flags := StageReg(flags)
+  io.bits := sc.reg(bits, digits - 1)
+  io.flags := sc.reg(flags, digits - 1)
 }

@@ -2,6 +2,7 @@ package mapm.arith
 
 import chisel3._
 import chisel3.util._
+import mapm.util.StageClocks
 
 /** Pipelined radix-2 online divider (online-arithmetic.md §2): Q = x'/d with the dividend x' a
   * signed-digit stream of `xLen` digits (|x'| < d) and the divisor d an n-bit binary operand
@@ -23,10 +24,12 @@ import chisel3.util._
   * entering stage t influences the last estimate only through its bits ≥ W − 7 − 3·(N+4 − t)).
   * The dropped bits are zeros in the next stage; the digits are those of the full-width
   * recurrence.
+  *
+  * With `gated`, `clocks(s-1)` clocks the registers stage s loads, as in [[OnlineMul]].
   */
-class OnlineDiv(n: Int, digits: Int, xLen: Int) extends Module {
+class OnlineDiv(n: Int, digits: Int, xLen: Int, gated: Boolean = false) extends Module {
   require(n >= 4 && digits >= 1 && xLen >= 1 && xLen <= digits + 4, s"OnlineDiv: n = $n, N = $digits, x length $xLen")
-  override def desiredName = s"OnlineDiv_n${n}_N${digits}_x$xLen"
+  override def desiredName = s"OnlineDiv_n${n}_N${digits}_x$xLen${StageClocks.suffix(gated)}"
 
   val stages: Int = digits + 4
   private val w = n + 2
@@ -38,7 +41,10 @@ class OnlineDiv(n: Int, digits: Int, xLen: Int) extends Module {
     val d = Input(Vec(n, Bool()))
     /** q(i-1): quotient digit q_i, registered (from stage i+4). */
     val q = Output(Vec(digits, new SignedDigit))
+    /** clocks(s-1): the clock of stage s's registers (with `gated`). */
+    val clocks = StageClocks.port(stages, gated)
   })
+  private val sc = new StageClocks(io.clocks)
 
   /** Lowest residual bit of the state entering stage t that can reach a digit. */
   private def liveLow(t: Int): Int = math.max(0, w - 7 - 3 * (stages - t))
@@ -89,9 +95,9 @@ class OnlineDiv(n: Int, digits: Int, xLen: Int) extends Module {
     // LSB only matters through its carry); SELD on them.
     val est = vs(w - 1, w - 4) + vc(w - 1, w - 4) + (vs(w - 5) & vc(w - 5)).asUInt
     val sel = if (j >= 0) DivSelect(est) else SignedDigit.zero
-    if (j >= 0) io.q(j) := StageReg(sel)
+    if (j >= 0) io.q(j) := sc.reg(sel, s - 1)
 
-    if (s < stages) {
+    if (s < stages) sc.at(s - 1) {
       // D[j+1] with d_i at residual bit n − i; the second CSA adds −q·D[j+1] (q = +1: ¬D and a
       // carry-in at WC bit 0).
       val grows = s <= n && s <= 3 + 3 * (stages - s)

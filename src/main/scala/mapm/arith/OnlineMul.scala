@@ -2,6 +2,7 @@ package mapm.arith
 
 import chisel3._
 import chisel3.util._
+import mapm.util.StageClocks
 
 /** Pipelined radix-2 online multiplier (shader-chain.md §3.1, online-arithmetic.md §1):
   * P = x·y with x a signed-digit stream of `xLen` digits (converted on the fly into X/XM) and y
@@ -21,10 +22,14 @@ import chisel3.util._
   * information up by at most one bit, so the state entering stage t influences the last
   * estimate only through its bits ≥ W − 7 − 3·(N+3 − t)). The dropped bits are zeros in the
   * next stage; the digits are those of the full-width recurrence.
+  *
+  * With `gated`, `clocks(s-1)` clocks the registers stage s loads (those of the state entering
+  * stage s+1, and the digit it selects): the parent's [[mapm.util.StageGates]] gates it by the
+  * valid bit of the operation in stage s.
   */
-class OnlineMul(n: Int, digits: Int, xLen: Int) extends Module {
+class OnlineMul(n: Int, digits: Int, xLen: Int, gated: Boolean = false) extends Module {
   require(n >= 2 && digits >= 1 && xLen >= 1 && xLen <= digits + 3, s"OnlineMul: n = $n, N = $digits, x length $xLen")
-  override def desiredName = s"OnlineMul_n${n}_N${digits}_x$xLen"
+  override def desiredName = s"OnlineMul_n${n}_N${digits}_x$xLen${StageClocks.suffix(gated)}"
 
   val stages: Int = digits + 3
   private val w = n + 5
@@ -36,7 +41,10 @@ class OnlineMul(n: Int, digits: Int, xLen: Int) extends Module {
     val y = Input(Vec(n, Bool()))
     /** p(i-1): product digit p_i, registered (from stage i+3). */
     val p = Output(Vec(digits, new SignedDigit))
+    /** clocks(s-1): the clock of stage s's registers (with `gated`). */
+    val clocks = StageClocks.port(stages, gated)
   })
+  private val sc = new StageClocks(io.clocks)
 
   /** Lowest residual bit of the state entering stage t that can reach a digit. */
   private def liveLow(t: Int): Int = math.max(0, w - 7 - 3 * (stages - t))
@@ -93,9 +101,9 @@ class OnlineMul(n: Int, digits: Int, xLen: Int) extends Module {
       if (s < stages) vs(w - 1, w - 4) + vc(w - 1, w - 4)
       else Cat(vs(w - 1, w - 3) + vc(w - 1, w - 3) + (vs(w - 4) & vc(w - 4)).asUInt, 0.U(1.W))
     val sel = if (j >= 0) MulSelect(est(3, 1)) else SignedDigit.zero
-    if (j >= 0) io.p(j) := StageReg(sel)
+    if (j >= 0) io.p(j) := sc.reg(sel, s - 1)
 
-    if (s < stages) {
+    if (s < stages) sc.at(s - 1) {
       val top = est - Mux(sel.pos, 4.U(4.W), Mux(sel.neg, 12.U(4.W), 0.U(4.W)))
       ws = keepResidual(Cat(top, vs(w - 5, 0)), s + 1)
       wc = CarrySave.keep(vc, math.min(w - 5, liveHigh(s + 1)), liveLow(s + 1), w - 1) // WC's top field is 0

@@ -25,6 +25,7 @@ final case class HwOptions(
     @arg(name = "sop-l2-banks", doc = "SOP L2 banks: 1 is one shared cache with one port (Table 4.2's); 2, 4 ... 64 split it by line address, each bank with its own port, behind a registered network") sopL2Banks: Option[Int] = None,
     @arg(name = "ts-l2-banks", doc = "TS L2 banks, as --sop-l2-banks") tsL2Banks: Option[Int] = None,
     @arg(doc = "clock every SOA in every cycle, as before clock gating (for comparison)") noSoaClockGate: mainargs.Flag = mainargs.Flag(),
+    @arg(doc = "clock every register inside each SOA in every cycle, as before stage gating (for comparison; docs/soa.md)") noSoaStageGate: mainargs.Flag = mainargs.Flag(),
     @arg(doc = "run the MAPM as its coprocessor (docs/coprocessor.md): it reads its queries, adds every colour into its pixel and writes the frame buffer, driven by the C driver over AXI4-Lite (render's default: see its --bare)") coproc: mainargs.Flag = mainargs.Flag(),
     @arg(name = "frame-banks", doc = "with --coproc: the frame accumulator's banks (a power of two; default one per SOA)") frameBanks: Option[Int] = None,
     @arg(name = "result-fifo", doc = "with --coproc: result FIFO entries per SOA (default the lane's RS entries + its SOA's latency + 32)") resultFifo: Option[Int] = None,
@@ -33,5 +34,6 @@ final case class HwOptions(
     @arg(name = "so-bus", doc = "Data bus: ring (a ring of credit tokens and a registered rotation; every stage registered) or serial (the dissertation's: SOMs claimed one TSM after another in one cycle; docs/mapm.md)") soBus: Option[SoBus] = None) {
 
   def tuning: Tuning = Tuning(rqDepth, rsEntries, tsL1.getOrElse(CacheSpec()), tsL2.getOrElse(CacheSpec()), soq.getOrElse(CacheSpec()),
-    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value, sopL2Banks, tsL2Banks, hierarchy, coproc.value, frameBanks, resultFifo, streamLines, soBus)
+    sopL1.getOrElse(CacheSpec()), sopL2.getOrElse(CacheSpec()), memOutstanding, !noSoaClockGate.value, sopL2Banks, tsL2Banks, hierarchy, coproc.value, frameBanks, resultFifo, streamLines, soBus,
+    !noSoaStageGate.value)
 }

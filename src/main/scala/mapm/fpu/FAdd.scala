@@ -2,6 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
+import mapm.util.StageClocks
 import chisel3.experimental.hierarchy.{instantiable, public}
 import mapm.numerics.FloatFormat
 
@@ -29,19 +30,20 @@ class FAddIn(fmt: FloatFormat) extends FOperands(fmt) {
   * beside `out`: rounded up in value, an overflow to +infinity, or a flush to zero of a negative
   * sum; false when exact; meaningful for finite operands), which lets a comparison of the rounded
   * sum decide as the exact sum would (the conventional TSA). With `stallable` an `en` input freezes every register
-  * while low (the output holds).
+  * while low (the output holds). With `gated` the data registers of stage k run on `clocks(k)`,
+  * which the pipeline around the unit gates ([[StepPipe]], [[mapm.util.StageGates]]).
   *
   * Latency: `stages` cycles (the output is registered when stages >= 1), default
   * [[FAdd.defaultStages]]; enabled cycles when stallable. Throughput: one operation per cycle;
   * `out.valid` is `in.valid` delayed by the latency.
   */
 @instantiable
-class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false, val direction: Boolean = false)
-    extends Module with PlannedPipeline {
+class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false, val direction: Boolean = false,
+           val gated: Boolean = false) extends Module with PlannedPipeline {
   def this(fmt: FloatFormat) = this(fmt, FAdd.defaultStages(fmt))
   def weights: Seq[Double] = FAdd.weights(fmt)
   override def desiredName: String =
-    s"FAdd_${fmt.name}_s$stages${if (stallable) "_en" else ""}${if (direction) "_dir" else ""}"
+    s"FAdd_${fmt.name}_s$stages${if (stallable) "_en" else ""}${if (direction) "_dir" else ""}${StageClocks.suffix(gated)}"
 
   @public val io = IO(new Bundle {
     val in = Flipped(Valid(new FAddIn(fmt)))
@@ -50,12 +52,14 @@ class FAdd(val fmt: FloatFormat, val stages: Int, val stallable: Boolean = false
     val en = if (stallable) Some(Input(Bool())) else None
     /** The result lies above the exact sum (units with `direction` only). */
     val above = if (direction) Some(Output(Bool())) else None
+    /** clocks(k): the clock of register stage k's data (stage-gated units only). */
+    val clocks = StageClocks.port(stages, gated)
   })
 
   private val n = fmt.manWidth + 1
   private val shiftW = log2Ceil(n + 4)
   private val expW = math.max(fmt.expWidth, shiftW) + 2
-  private val p = new StepPipe(cuts, io.in.valid, io.en)
+  private val p = new StepPipe(cuts, io.in.valid, io.en, new StageClocks(io.clocks))
 
   private class Side extends Bundle {
     val special = Bool()

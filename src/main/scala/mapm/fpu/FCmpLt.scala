@@ -2,6 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
+import mapm.util.StageClocks
 import mapm.numerics.FloatFormat
 
 /** Pipelined floating-point comparison: out = a < b in format `fmt`, bit-exact with
@@ -11,17 +12,19 @@ import mapm.numerics.FloatFormat
   * One step (sign-magnitude compare) ended by a register when `stages` is 1. Latency: `stages`
   * cycles, 1 by default, 0 without the register. Throughput: one comparison per cycle.
   */
-class FCmpLt(val fmt: FloatFormat, val stages: Int = 1) extends Module with PlannedPipeline {
+class FCmpLt(val fmt: FloatFormat, val stages: Int = 1, val gated: Boolean = false) extends Module with PlannedPipeline {
   def weights: Seq[Double] = FCmpLt.weights
-  override def desiredName: String = s"FCmpLt_${fmt.name}_s$stages"
+  override def desiredName: String = s"FCmpLt_${fmt.name}_s$stages${StageClocks.suffix(gated)}"
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new FOperands(fmt)))
     val out = Valid(Bool())
+    /** clocks(k): the clock of register stage k's data (stage-gated units only). */
+    val clocks = StageClocks.port(stages, gated)
   })
 
   val lt = OrderParts(fmt, io.in.bits.a, io.in.bits.b).lt
-  private val p = new StepPipe(cuts, io.in.valid)
+  private val p = new StepPipe(cuts, io.in.valid, clocks = new StageClocks(io.clocks))
   io.out.bits := p.last(lt)
   io.out.valid := p.finish()
 }

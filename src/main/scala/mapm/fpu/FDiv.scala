@@ -2,6 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
+import mapm.util.StageClocks
 import mapm.numerics.FloatFormat
 
 /** Pipelined floating-point divider: out = a / b, correctly rounded to nearest even in format
@@ -31,14 +32,16 @@ import mapm.numerics.FloatFormat
   * [[FDiv.defaultStages]]. Throughput: one operation per cycle; `out.valid` is `in.valid` delayed
   * by the latency.
   */
-class FDiv(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPipeline {
+class FDiv(val fmt: FloatFormat, val stages: Int, val gated: Boolean = false) extends Module with PlannedPipeline {
   def this(fmt: FloatFormat) = this(fmt, FDiv.defaultStages(fmt))
   def weights: Seq[Double] = FDiv.weights(fmt)
-  override def desiredName: String = s"FDiv_${fmt.name}_s$stages"
+  override def desiredName: String = s"FDiv_${fmt.name}_s$stages${StageClocks.suffix(gated)}"
 
   val io = IO(new Bundle {
     val in = Flipped(Valid(new FOperands(fmt)))
     val out = Valid(UInt(fmt.width.W))
+    /** clocks(k): the clock of register stage k's data (stage-gated units only). */
+    val clocks = StageClocks.port(stages, gated)
   })
 
   private val m = fmt.manWidth
@@ -47,7 +50,7 @@ class FDiv(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPip
   // doubles 2W, and the estimate (above -3 D and at most 2 D), are read mod 2^(v+1).
   private val v = m + 4
   private val expW = fmt.expWidth + 3      // holds 1 - (expMax - 1) + bias - 1 .. expMax - 1 - 1 + bias, signed
-  private val p = new StepPipe(cuts, io.in.valid)
+  private val p = new StepPipe(cuts, io.in.valid, clocks = new StageClocks(io.clocks))
 
   private class Side extends Bundle {
     val special = Bool()

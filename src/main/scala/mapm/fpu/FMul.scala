@@ -2,6 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
+import mapm.util.StageClocks
 import chisel3.experimental.hierarchy.{instantiable, public}
 import mapm.numerics.FloatFormat
 
@@ -23,19 +24,21 @@ import mapm.numerics.FloatFormat
   * by the latency.
   */
 @instantiable
-class FMul(val fmt: FloatFormat, val stages: Int) extends Module with PlannedPipeline {
+class FMul(val fmt: FloatFormat, val stages: Int, val gated: Boolean = false) extends Module with PlannedPipeline {
   def this(fmt: FloatFormat) = this(fmt, FMul.defaultStages(fmt))
   def weights: Seq[Double] = FMul.weights(fmt)
-  override def desiredName: String = s"FMul_${fmt.name}_s$stages"
+  override def desiredName: String = s"FMul_${fmt.name}_s$stages${StageClocks.suffix(gated)}"
 
   @public val io = IO(new Bundle {
     val in = Flipped(Valid(new FOperands(fmt)))
     val out = Valid(UInt(fmt.width.W))
+    /** clocks(k): the clock of register stage k's data (stage-gated units only). */
+    val clocks = StageClocks.port(stages, gated)
   })
 
   private val n = fmt.manWidth + 1
   private val expW = fmt.expWidth + 3 // holds 2 - bias .. 2*expMax - bias, signed
-  private val p = new StepPipe(cuts, io.in.valid)
+  private val p = new StepPipe(cuts, io.in.valid, clocks = new StageClocks(io.clocks))
 
   private class Side extends Bundle {
     val special = Bool()

@@ -2,6 +2,7 @@ package mapm.fpu
 
 import chisel3._
 import chisel3.util._
+import mapm.util.StageClocks
 
 /** Where a unit puts its pipeline registers. A unit is a fixed sequence of combinational steps,
   * each with an estimated delay (its weight, in units of about one full adder; docs/fpu.md); a
@@ -57,9 +58,14 @@ object PipelinePlan {
   * every data register of the stage (a fan-out of thousands in a deep multiplier, measured at
   * 65 MHz), and the valid bit beside the data tells which cycles carry an operation. With an
   * `enable` (a unit inside a pipeline that stalls, such as the conventional TSA in its Tree Search
-  * Module) every register, valid bit included, loads only while it is high. */
-final class StepPipe(val cuts: Seq[Boolean], inValid: Bool, enable: Option[Bool] = None) {
+  * Module) every register, valid bit included, loads only while it is high. With stage clocks
+  * (`clocks`, a unit in a stage-gated pipeline), the data registers of the k-th register stage
+  * run on clock k, gated by the valid bit beside them; the valid bits keep the module clock. */
+final class StepPipe(val cuts: Seq[Boolean], inValid: Bool, enable: Option[Bool] = None,
+                     clocks: StageClocks = new StageClocks(None)) {
+  require(enable.isEmpty || clocks.port.isEmpty, "a stallable pipeline has no stage clocks")
   private var step = 0
+  private var stage = 0 // register stages before the current step
   private var validNow: Bool = inValid
 
   /** The valid bit beside the values of the current step. */
@@ -68,7 +74,7 @@ final class StepPipe(val cuts: Seq[Boolean], inValid: Bool, enable: Option[Bool]
   /** `x` across the end of the current step. */
   def apply[T <: Data](x: T): T = {
     require(step < cuts.length, s"datapath has more than the ${cuts.length} planned steps")
-    if (cuts(step)) { // keeps x's width, as RegNext would not
+    if (cuts(step)) clocks.at(stage) { // keeps x's width, as RegNext would not
       val r = Reg(chiselTypeOf(x))
       enable match { case Some(en) => when(en) { r := x }; case None => r := x }
       r
@@ -78,7 +84,10 @@ final class StepPipe(val cuts: Seq[Boolean], inValid: Bool, enable: Option[Bool]
   /** Ends the current step; values of the next step are read through [[apply]] first. */
   def next(): Unit = {
     require(step < cuts.length, s"datapath has more than the ${cuts.length} planned steps")
-    if (cuts(step)) validNow = RegEnable(validNow, false.B, enable.getOrElse(true.B))
+    if (cuts(step)) {
+      validNow = RegEnable(validNow, false.B, enable.getOrElse(true.B))
+      stage += 1
+    }
     step += 1
   }
 

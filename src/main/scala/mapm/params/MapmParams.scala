@@ -246,7 +246,8 @@ object Hierarchy extends mapm.Choices[Hierarchy] {
 
 /** Clock gating, which saves the power of idle logic in silicon and its evaluation in Verilator. */
 final case class ClockingParams(
-    soaClockGate: Boolean = true // each SOA's clock runs only while an operation enters or is inside it (docs/mapm.md)
+    soaClockGate: Boolean = true,  // each SOA's clock runs only while an operation enters or is inside it (docs/mapm.md)
+    soaStageGate: Boolean = true   // inside an SOA, each pipeline stage's clock runs only when it takes an operation (docs/soa.md)
 )
 
 /** The coprocessor around the MAPM (docs/coprocessor.md): its frame accumulator and its AXI4 port. */
@@ -342,7 +343,7 @@ final case class MapmParams(
   /** Short name used in module and file names, e.g. `t16s16a2_e8m23_g3`, with `_wide` where the
     * wide layout gives the format larger slots than the packed one, the FPU logic per stage
     * (e.g. `_fw1p5`) where it is not the default, `_conv` for the conventional arithmetic,
-    * `_timing` for the SOAs' timing model, `_nocg` for SOAs without clock gating and `_b8` for
+    * `_timing` for the SOAs' timing model, `_nocg` for SOAs without clock gating, `_nsg` for SOAs without stage gating and `_b8` for
     * an SOP L2 of 8 banks. */
   def name: String = {
     val wide = if (slotBytes != SlotLayout.Packed.slotBytes(numbers.format)) "_wide" else ""
@@ -350,7 +351,7 @@ final case class MapmParams(
     val depth = if (w != NumberParams.DefaultFpuStageWeight) "_fw" + f"$w%.2f".stripSuffix("0").stripSuffix("0").stripSuffix(".").replace('.', 'p') else ""
     val conv = if (numbers.arith == Arith.Conventional) "_conv" else ""
     val timing = if (sim.fidelity == Fidelity.Timing) "_timing" else ""
-    val gate = if (clocking.soaClockGate) "" else "_nocg"
+    val gate = (if (clocking.soaClockGate) "" else "_nocg") + (if (clocking.soaStageGate) "" else "_nsg")
     val bus = if (uncore.soBus == SoBus.Serial) "" else s"_${uncore.soBus.name}"
     def banks(l2: L2Structure, tag: String) = l2 match { case L2Structure.Shared => ""; case L2Structure.Banked(n) => s"_$tag$n" }
     s"t${counts.tsm}s${counts.som}a${counts.soaPerSom}_${numbers.format.name}_g${numbers.guardDigits}$wide$depth$conv$timing$gate${banks(uncore.sopL2, "b")}${banks(uncore.tsL2, "tb")}$bus"

@@ -76,7 +76,8 @@ final case class Tuning(
     frameBanks: Option[Int] = None,         // the coprocessor's accumulator banks
     resultFifo: Option[Int] = None,         // the coprocessor's result FIFO entries per SOA
     streamLines: Option[Int] = None,        // the coprocessor's query-stream lines read ahead
-    soBus: Option[SoBus] = None             // the Data bus (None: the hierarchy's)
+    soBus: Option[SoBus] = None,            // the Data bus (None: the hierarchy's)
+    soaStageGate: Boolean = true            // gate each SOA pipeline stage's clock while it takes no operation
 ) {
   /** The overrides given, as `name=value` words (empty for none), for logs and CSVs. */
   def describe: Seq[String] = {
@@ -84,6 +85,7 @@ final case class Tuning(
     registerQueueDepth.map(d => s"rq-depth=$d").toSeq ++ rsEntries.map(r => s"rs-entries=$r") ++
       Seq("ts-l1" -> tsL1, "ts-l2" -> tsL2, "soq" -> soq, "sop-l1" -> sopL1, "sop-l2" -> sopL2).flatMap { case (n, c) => spec(n, c) } ++
       memOutstanding.map(m => s"mem-outstanding=$m") ++ (if (soaClockGate) None else Some("no-soa-clock-gate")) ++
+      (if (soaStageGate) None else Some("no-soa-stage-gate")) ++
       sopL2Banks.map(b => s"sop-l2-banks=$b") ++ tsL2Banks.map(b => s"ts-l2-banks=$b") ++
       (if (hierarchy == Hierarchy.Scalable) None else Some(s"hierarchy=$hierarchy")) ++ (if (coproc) Some("coproc") else None) ++
       frameBanks.map(b => s"frame-banks=$b") ++ resultFifo.map(f => s"result-fifo=$f") ++ streamLines.map(l => s"stream-lines=$l") ++
@@ -137,7 +139,7 @@ object Configure {
         sim = SimParams(fidelity, t.coproc),
         coproc = base.coproc.copy(banks = t.frameBanks.getOrElse(base.coproc.banks), laneFifo = t.resultFifo.getOrElse(base.coproc.laneFifo),
           streamLines = t.streamLines.getOrElse(base.coproc.streamLines)),
-        clocking = ClockingParams(t.soaClockGate),
+        clocking = ClockingParams(t.soaClockGate, t.soaStageGate),
         uncore = {
           // The hierarchy's L2 structures for the SOP L2 as given, each bank count given in their place.
           val u = h.uncore(base.counts, sopL2)

@@ -5,6 +5,7 @@ import chisel3.util._
 import chisel3.experimental.hierarchy.{Definition, Instance}
 import mapm.fpu.{FAdd, FCmpLt, FMul, FpuDepth}
 import mapm.numerics.FloatFormat
+import mapm.util.{StageClocks, StageGates}
 
 /** Inputs of [[CondCheck]]: query point q, photon position p, kernel radius h (bit patterns of
   * the format) and an opaque tag that leaves with the result. */
@@ -39,15 +40,17 @@ class CondOut(tagWidth: Int) extends Bundle {
   * travels in such registers beside the units.
   *
   * The units' pipeline depth is `depth` ([[FpuDepth]]; by default pipelined for the clock the
-  * online units reach, docs/cost.md).
+  * online units reach, docs/cost.md). With `gated` every data register, the units' included, is
+  * clocked only in the cycles in which it takes an operation's state ([[mapm.util.StageGates]]).
   *
   * Latency: [[latency]] = 3 FAdd + FMul + FCmpLt latencies (37 cycles at fp32, 36 at fp16 by
   * default). Throughput: one check per cycle; results leave in input order with their tags.
   */
-class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth) extends Module {
+class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth, val gated: Boolean) extends Module {
+  def this(fmt: FloatFormat, tagWidth: Int, depth: FpuDepth) = this(fmt, tagWidth, depth, false)
   def this(fmt: FloatFormat, tagWidth: Int) = this(fmt, tagWidth, FpuDepth.of(fmt))
   require(tagWidth >= 1, s"CondCheck tag width must be at least 1, got $tagWidth")
-  override def desiredName: String = CondCheck.name(fmt, tagWidth, depth)
+  override def desiredName: String = CondCheck.name(fmt, tagWidth, depth, gated)
 
   val latency: Int = CondCheck.latency(depth)
 
@@ -56,30 +59,37 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth) ex
     val out = Valid(new CondOut(tagWidth))
   })
 
-  /** a + b (or a - b) in an [[FAdd]]; the operands' valid bits always agree and are ANDed. */
+  // Depth d: the cycle d after the operation's on `in` (see StageGates).
+  private val stages = new StageGates(io.in.valid, gated)
+
+  /** a + b (or a - b) in an [[FAdd]] that takes the operands at depth `at`; the operands' valid
+    * bits always agree and are ANDed. */
   // The adders and multipliers are elaborated once each and instantiated.
-  private lazy val addDef = Definition(new FAdd(fmt, depth.add))
-  private lazy val mulDef = Definition(new FMul(fmt, depth.mul))
-  private def add(a: Valid[UInt], b: Valid[UInt], sub: Boolean): Valid[UInt] = {
+  private lazy val addDef = Definition(new FAdd(fmt, depth.add, gated = gated))
+  private lazy val mulDef = Definition(new FMul(fmt, depth.mul, gated))
+  private def add(a: Valid[UInt], b: Valid[UInt], sub: Boolean, at: Int): Valid[UInt] = {
     val u = Instance(addDef)
+    stages.connect(u.io.clocks, at)
     u.io.in.valid := a.valid && b.valid
     u.io.in.bits.a := a.bits
     u.io.in.bits.b := b.bits
     u.io.in.bits.sub := sub.B
     u.io.out
   }
-  private def square(x: Valid[UInt]): Valid[UInt] = {
+  private def square(x: Valid[UInt], at: Int): Valid[UInt] = {
     val u = Instance(mulDef)
+    stages.connect(u.io.clocks, at)
     u.io.in.valid := x.valid
     u.io.in.bits.a := x.bits
     u.io.in.bits.b := x.bits
     u.io.out
   }
-  /** `x` delayed by `cycles` registers that load only while the valid bit beside them is set. */
-  private def delay[T <: Data](x: Valid[T], cycles: Int): Valid[T] = (0 until cycles).foldLeft(x) { (d, _) =>
+  /** `x`, at depth `at`, delayed by `cycles` registers that load only while the valid bit beside
+    * them is set (gated: clocked only then). */
+  private def delay[T <: Data](x: Valid[T], cycles: Int, at: Int): Valid[T] = (0 until cycles).foldLeft(x) { (d, k) =>
     val r = Wire(Valid(chiselTypeOf(d.bits)))
     r.valid := RegNext(d.valid, false.B)
-    r.bits := RegEnable(d.bits, d.valid)
+    r.bits := (if (gated) stages.reg(d.bits, at + k) else RegEnable(d.bits, d.valid))
     r
   }
   private def input[T <: Data](x: T): Valid[T] = {
@@ -91,27 +101,29 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth) ex
 
   val in = io.in.bits
   val addLatency: Int = depth.add
-  val dx = add(input(in.qx), input(in.px), sub = true)
-  val dy = add(input(in.qy), input(in.py), sub = true)
-  val dz = add(input(in.qz), input(in.pz), sub = true)
-  val xy = add(square(dx), square(dy), sub = false)
-  val d2 = add(xy, delay(square(dz), addLatency), sub = false)
-  val hh = delay(square(delay(input(in.h), addLatency)), 2 * addLatency)
+  private val (a, m) = (depth.add, depth.mul)
+  val dx = add(input(in.qx), input(in.px), sub = true, 0)
+  val dy = add(input(in.qy), input(in.py), sub = true, 0)
+  val dz = add(input(in.qz), input(in.pz), sub = true, 0)
+  val xy = add(square(dx, a), square(dy, a), sub = false, a + m)
+  val d2 = add(xy, delay(square(dz, a), a, a + m), sub = false, 2 * a + m)
+  val hh = delay(square(delay(input(in.h), a, 0), a), 2 * a, a + m)
 
-  val cmp = Module(new FCmpLt(fmt, depth.cmp))
+  val cmp = Module(new FCmpLt(fmt, depth.cmp, gated))
+  stages.connect(cmp.io.clocks, 3 * a + m)
   cmp.io.in.valid := d2.valid && hh.valid
   cmp.io.in.bits.a := d2.bits
   cmp.io.in.bits.b := hh.bits
 
   io.out.valid := cmp.io.out.valid
   io.out.bits.cond := cmp.io.out.bits
-  io.out.bits.tag := delay(input(in.tag), latency).bits
+  io.out.bits.tag := delay(input(in.tag), latency, 0).bits
 }
 
 object CondCheck {
-  /** The module name, e.g. `CondCheck_e8m23_t16_a8m9c1` (the units' stages). */
-  def name(fmt: FloatFormat, tagWidth: Int, depth: FpuDepth): String =
-    s"CondCheck_${fmt.name}_t${tagWidth}_a${depth.add}m${depth.mul}c${depth.cmp}"
+  /** The module name, e.g. `CondCheck_e8m23_t16_a8m9c1` (the units' stages; `_sg` stage-gated). */
+  def name(fmt: FloatFormat, tagWidth: Int, depth: FpuDepth, gated: Boolean = false): String =
+    s"CondCheck_${fmt.name}_t${tagWidth}_a${depth.add}m${depth.mul}c${depth.cmp}${StageClocks.suffix(gated)}"
 
   /** Cycles from input to output at the units' depth. */
   def latency(depth: FpuDepth): Int = 3 * depth.add + depth.mul + depth.cmp

@@ -6,6 +6,7 @@ import chisel3.experimental.hierarchy.{Definition, Instance}
 import mapm.fpu.{FDiv, FMul, FOperands, FloatFields, FpuDepth}
 import mapm.numerics.FloatFormat
 import mapm.params.Rgb
+import mapm.util.StageGates
 
 /** The conventional colour chain, the baseline of dissertation Table 4.5: per channel
   * colour_c = RN(RN(RN(RN(kernel · BRDF) / h) · power_c) · contribution_c), every operation an
@@ -20,13 +21,17 @@ import mapm.params.Rgb
   * an infinity (largest finite value and OVF), one that underflowed has made it a zero (+0 and
   * UNF), as the model argues.
   *
+  * With `gated` (the default), every data register is clocked only in the cycles in which it
+  * takes an operation's state ([[mapm.util.StageGates]]), as in the online chain.
+  *
   * Latency: [[ConvShaderChain.latency]] = mul + div + mul + mul + 1 cycles of `depth` (60 at fp32
   * with the default depth). Throughput: one operation per cycle, fully pipelined, never stalls;
   * `out.valid` follows `in.valid` and tags leave in order.
   */
-class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth: Int = 16) extends ColourChain {
+class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth: Int = 16, val gated: Boolean = true)
+    extends ColourChain {
   require(tagWidth >= 1, s"ConvShaderChain: tag width must be at least 1, got $tagWidth")
-  override def desiredName: String = ConvShaderChain.name(format, depth)
+  override def desiredName: String = ConvShaderChain.name(format, depth, gated)
 
   val latency: Int = ConvShaderChain.latency(depth)
   val io = IO(new ColourChainIO(format, tagWidth))
@@ -37,17 +42,20 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
   private def operands(u: Valid[FOperands], valid: Bool, a: UInt, b: UInt): Unit = {
     u.valid := valid; u.bits.a := a; u.bits.b := b
   }
-  private lazy val mulDef = Definition(new FMul(format, depth.mul)) // elaborated once, instantiated four times
-  private def mul(valid: Bool, a: UInt, b: UInt): Valid[UInt] = {
-    val u = Instance(mulDef); operands(u.io.in, valid, a, b); u.io.out
+  // Depth d: the cycle d after the operation's on `in` (see StageGates); each unit takes its
+  // operands at depth `at`.
+  private val stages = new StageGates(io.in.valid, gated)
+  private lazy val mulDef = Definition(new FMul(format, depth.mul, gated)) // elaborated once, instantiated seven times
+  private def mul(valid: Bool, a: UInt, b: UInt, at: Int): Valid[UInt] = {
+    val u = Instance(mulDef); stages.connect(u.io.clocks, at); operands(u.io.in, valid, a, b); u.io.out
   }
-  private def div(valid: Bool, a: UInt, b: UInt): Valid[UInt] = {
-    val u = Module(new FDiv(format, depth.div)); operands(u.io.in, valid, a, b); u.io.out
+  private def div(valid: Bool, a: UInt, b: UInt, at: Int): Valid[UInt] = {
+    val u = Module(new FDiv(format, depth.div, gated)); stages.connect(u.io.clocks, at); operands(u.io.in, valid, a, b); u.io.out
   }
 
   // MUL1 and the divider, shared by the channels.
-  private val t1 = mul(io.in.valid, req.kernel, req.brdf)
-  private val t2 = div(t1.valid, t1.bits, ShiftRegister(req.h, depth.mul))
+  private val t1 = mul(io.in.valid, req.kernel, req.brdf, 0)
+  private val t2 = div(t1.valid, t1.bits, stages.shift(req.h, depth.mul, 0), depth.mul)
   private val toMul2 = depth.mul + depth.div
   private val toMul3 = toMul2 + depth.mul
 
@@ -70,12 +78,12 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
     s.flushed := flushedShared || f.isFlushed(req.power(c)) || f.isFlushed(req.contrib(c))
     s
   })
-  private val specialLate = ShiftRegister(special, latency - 1)
+  private val specialLate = stages.shift(special, latency - 1, 0)
 
   // MUL2 and MUL3 per channel, then the output rule (one registered cycle).
   private val t4 = (0 until Rgb.Channels).map { c =>
-    val t3 = mul(t2.valid, t2.bits, ShiftRegister(req.power(c), toMul2))
-    mul(t3.valid, t3.bits, ShiftRegister(req.contrib(c), toMul3))
+    val t3 = mul(t2.valid, t2.bits, stages.shift(req.power(c), toMul2, 0), toMul2)
+    mul(t3.valid, t3.bits, stages.shift(req.contrib(c), toMul3, 0), toMul3)
   }
   private val colour = Wire(Vec(Rgb.Channels, UInt(format.width.W)))
   private val flags = Wire(Vec(Rgb.Channels, UInt(3.W)))
@@ -92,9 +100,9 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
         Mux(overflow, ConvShaderChain.Ovf.U, Mux(underflow, ConvShaderChain.Unf.U, 0.U))))
   }
   io.out.valid := RegNext(t4.map(_.valid).reduce(_ && _), false.B)
-  io.out.bits.colour := RegNext(colour)
-  io.out.bits.flags := RegNext(flags)
-  io.out.bits.tag := ShiftRegister(req.tag, latency)
+  io.out.bits.colour := stages.reg(colour, latency - 1)
+  io.out.bits.flags := stages.reg(flags, latency - 1)
+  io.out.bits.tag := stages.shift(req.tag, latency, 0)
 }
 
 object ConvShaderChain {
@@ -102,8 +110,9 @@ object ConvShaderChain {
   private val Unf = 2
   private val Inv = 4
 
-  /** The module name, e.g. `ConvShaderChain_e8m23_m9d32`. */
-  def name(format: FloatFormat, depth: FpuDepth): String = s"ConvShaderChain_${format.name}_m${depth.mul}d${depth.div}"
+  /** The module name, e.g. `ConvShaderChain_e8m23_m9d32` (stage-gated; `_nsg` ungated). */
+  def name(format: FloatFormat, depth: FpuDepth, gated: Boolean = true): String =
+    s"ConvShaderChain_${format.name}_m${depth.mul}d${depth.div}${if (gated) "" else "_nsg"}"
 
   /** Cycles from input to output: MUL1, the divider, MUL2, MUL3, then the output rule. */
   def latency(depth: FpuDepth): Int = 3 * depth.mul + depth.div + 1

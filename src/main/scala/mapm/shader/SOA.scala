@@ -60,6 +60,10 @@ abstract class ShaderUnit extends Module {
   * registers so that the three colours, their flags, cond and the tag leave in the same cycle.
   * The tag travels through the colour chain; the cond check carries a one-bit dummy tag.
   *
+  * With `stageGate` (the default) the colour chain and the cond check clock each register only in
+  * the cycles in which it takes an operation's state ([[mapm.util.StageGates]]); the results and
+  * their cycles are those of the ungated SOA.
+  *
   * The conventional floating-point units (the cond check's, and the conventional chain's) are
   * pipelined to `condDepth` ([[FpuDepth]], by default [[FpuDepth.of]] the format: the depth at
   * which they keep up with the online units' clock).
@@ -72,9 +76,10 @@ abstract class ShaderUnit extends Module {
   * `out.valid` follows `in.valid` and results leave in input order.
   */
 class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
-          val condDepth: Option[FpuDepth] = None, val arith: Arith = Arith.Online) extends ShaderUnit {
+          val condDepth: Option[FpuDepth] = None, val arith: Arith = Arith.Online,
+          val stageGate: Boolean = true) extends ShaderUnit {
   private val depth = condDepth.getOrElse(FpuDepth.of(format))
-  override def desiredName: String = SOA.name(format, g, condDepth, arith)
+  override def desiredName: String = SOA.name(format, g, condDepth, arith, stageGate)
 
   val latency: Int = SOA.latency(format, g, depth, arith)
 
@@ -82,8 +87,8 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
   private val req = io.in.bits
 
   val chain: ColourChain = Module(arith match {
-    case Arith.Online => new ShaderChain(format, g, tagWidth)
-    case Arith.Conventional => new ConvShaderChain(format, depth, tagWidth)
+    case Arith.Online => new ShaderChain(format, g, tagWidth, stageGate)
+    case Arith.Conventional => new ConvShaderChain(format, depth, tagWidth, stageGate)
   })
   chain.io.in.valid := io.in.valid
   chain.io.in.bits.kernel := req.kernel
@@ -93,7 +98,7 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
   chain.io.in.bits.contrib := req.contrib
   chain.io.in.bits.tag := req.tag
 
-  val condCheck = Module(new CondCheck(format, 1, depth))
+  val condCheck = Module(new CondCheck(format, 1, depth, stageGate))
   condCheck.io.in.valid := io.in.valid
   condCheck.io.in.bits.qx := req.qx
   condCheck.io.in.bits.qy := req.qy
@@ -119,16 +124,20 @@ class SOA(val format: FloatFormat, val g: Int, val tagWidth: Int = 16,
 object SOA {
   /** The module name, e.g. `SOA_e8m23_g3` (online) or `ConvSOA_e8m23` (conventional, whose
     * name has no g). A depth of the conventional units other than the format's default adds the
-    * stages that matter, e.g. `SOA_e8m23_g3_a4m3c1`, `ConvSOA_e8m23_a4m3c1d20`. */
-  def name(format: FloatFormat, g: Int, condDepth: Option[FpuDepth] = None, arith: Arith = Arith.Online): String = {
+    * stages that matter, e.g. `SOA_e8m23_g3_a4m3c1`, `ConvSOA_e8m23_a4m3c1d20`; an SOA without
+    * stage gating ends in `_nsg`. */
+  def name(format: FloatFormat, g: Int, condDepth: Option[FpuDepth] = None, arith: Arith = Arith.Online,
+           stageGate: Boolean = true): String = {
     val d0 = FpuDepth.of(format)
-    arith match {
+    val gate = if (stageGate) "" else "_nsg"
+    val base = arith match {
       case Arith.Online =>
         s"SOA_${format.name}_g$g" + condDepth.filter(d => (d.add, d.mul, d.cmp) != ((d0.add, d0.mul, d0.cmp)))
           .fold("")(d => s"_a${d.add}m${d.mul}c${d.cmp}")
       case Arith.Conventional =>
         s"ConvSOA_${format.name}" + condDepth.filter(_ != d0).fold("")(d => s"_a${d.add}m${d.mul}c${d.cmp}d${d.div}")
     }
+    base + gate
   }
 
   /** Cycles from input to output: the longer of the colour chain and the cond check. */

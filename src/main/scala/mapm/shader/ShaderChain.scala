@@ -8,6 +8,7 @@ import mapm.arith.P2S
 import mapm.fpu.FloatFields
 import mapm.numerics.FloatFormat
 import mapm.params.Rgb
+import mapm.util.StageGates
 
 /** One shader operation: the shared kernel, BRDF and h, and per colour channel (r, g, b) the
   * photon power and the contribution, as bit patterns of the format, with an opaque tag. */
@@ -53,15 +54,20 @@ abstract class ColourChain extends Module {
   * MUL3 (15 … N+17), then normalization and packing in cycle N+18. The exponent adder tree and
   * the special-case classes are formed in cycle 1 and travel beside the significands.
   *
+  * With `gated` (the default), every register is clocked only in the cycles in which it takes an
+  * operation's state ([[mapm.util.StageGates]]: one clock gate per cycle of the chain, shared by
+  * the units' registers of that cycle); the results and their cycles are those of the ungated
+  * chain.
+  *
   * Latency: [[latency]] = N + 18 cycles from `in` to `out` (42 for fp32 with g = 0, 45 with
   * g = 3). Throughput: one operation per cycle, fully pipelined, never stalls; `out.valid`
   * follows `in.valid` and tags leave in order.
   */
-class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) extends ColourChain {
+class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16, val gated: Boolean = true) extends ColourChain {
   private val n = format.manWidth + 1
   private val ew = format.expWidth
   require(g >= 0 && g <= 8 && n >= 5 && tagWidth >= 1, s"ShaderChain: format $format, g = $g, tag width $tagWidth")
-  override def desiredName = ShaderChain.name(format, g)
+  override def desiredName = ShaderChain.name(format, g, gated)
 
   /** Digits per online unit. */
   val digits: Int = n + g
@@ -72,25 +78,31 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
 
   private val req = io.in.bits
   private val f = FloatFields(format)
+  // Depth d = cycle d + 1 of the timing above (the operation is on `in` at depth 0).
+  private val stages = new StageGates(io.in.valid, gated)
 
   /** The n significand bits 1.f of `x`, skewed by P2S after `delay` cycles: bit s (MSB = 1)
     * comes out in cycle s + delay. */
   private def serial(x: UInt, delay: Int): Vec[Bool] = {
-    val p2s = Module(new P2S(n))
-    p2s.io.in := ShiftRegister(Cat(1.U(1.W), f.frac(x)), delay)
+    val p2s = Module(new P2S(n, gated = gated))
+    p2s.io.in := stages.shift(Cat(1.U(1.W), f.frac(x)), delay, 0)
+    stages.connect(p2s.io.clocks, delay)
     VecInit((1 to n).map(s => p2s.io.out(n - s)))
   }
 
   // Significand datapath, shared part: MUL1 = kernel × BRDF, DIV = (0, p1) / h, QN.
-  val mul1 = Module(new OnlineMul(n, digits, n))
+  val mul1 = Module(new OnlineMul(n, digits, n, gated))
+  stages.connect(mul1.io.clocks, 0)
   mul1.io.x := VecInit(serial(req.kernel, 0).map(b => SignedDigit(b, false.B)))
   mul1.io.y := serial(req.brdf, 0)
 
-  val div = Module(new OnlineDiv(n, digits, digits + 1))
+  val div = Module(new OnlineDiv(n, digits, digits + 1, gated))
+  stages.connect(div.io.clocks, 3)
   div.io.x := VecInit(SignedDigit.zero +: mul1.io.p)
   div.io.d := serial(req.h, 3)
 
-  val qn = Module(new QuasiNormalize(digits))
+  val qn = Module(new QuasiNormalize(digits, gated))
+  stages.connect(qn.io.clocks, 8)
   qn.io.q := div.io.q
 
   // Exponents and special cases, formed in cycle 1.
@@ -102,15 +114,17 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
   exps.io.contrib := VecInit(req.contrib.map(f.exp))
 
   private val toPack = digits + 17 // from cycle 1 to the packing cycle N+18
-  private val sAtPack = ShiftRegister(qn.io.s, digits + 7) // s appears in cycle 11
+  private val sAtPack = stages.shift(qn.io.s, digits + 7, 10) // s appears in cycle 11
 
   val result = Wire(new ShaderResult(format, tagWidth))
   for (c <- 0 until Rgb.Channels) {
     val (power, contrib) = (req.power(c), req.contrib(c))
-    val mul2 = Module(new OnlineMul(n, digits, digits))
+    val mul2 = Module(new OnlineMul(n, digits, digits, gated))
+    stages.connect(mul2.io.clocks, 10)
     mul2.io.x := qn.io.out
     mul2.io.y := serial(power, 10)
-    val mul3 = Module(new OnlineMul(n, digits, digits))
+    val mul3 = Module(new OnlineMul(n, digits, digits, gated))
+    stages.connect(mul3.io.clocks, 14)
     mul3.io.x := mul2.io.p
     mul3.io.y := serial(contrib, 14)
 
@@ -120,24 +134,26 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16) e
     special.zero := factors.map(f.isZero).reduce(_ || _)
     special.flushed := factors.map(f.isFlushed).reduce(_ || _)
 
-    val pack = Module(new NormalizePack(format, digits))
+    val pack = Module(new NormalizePack(format, digits, gated))
+    stages.connect(pack.io.clocks, 18)
     pack.io.digits := mul3.io.p
-    pack.io.e0 := ShiftRegister(exps.io.e0(c), toPack)
+    pack.io.e0 := stages.shift(exps.io.e0(c), toPack, 0)
     pack.io.s := sAtPack
-    pack.io.sign := ShiftRegister((factors :+ req.h).map(f.sign).reduce(_ ^ _), toPack)
-    pack.io.special := ShiftRegister(special, toPack)
+    pack.io.sign := stages.shift((factors :+ req.h).map(f.sign).reduce(_ ^ _), toPack, 0)
+    pack.io.special := stages.shift(special, toPack, 0)
     result.colour(c) := pack.io.bits
     result.flags(c) := pack.io.flags
   }
-  result.tag := ShiftRegister(req.tag, latency)
+  result.tag := stages.shift(req.tag, latency, 0)
 
-  io.out.valid := ShiftRegister(io.in.valid, latency, false.B, true.B)
+  io.out.valid := stages.valid(latency)
   io.out.bits := result
 }
 
 object ShaderChain {
-  /** The module name, e.g. `ShaderChain_e8m23_g3`. */
-  def name(format: FloatFormat, g: Int): String = s"ShaderChain_${format.name}_g$g"
+  /** The module name, e.g. `ShaderChain_e8m23_g3` (stage-gated; `_nsg` ungated). */
+  def name(format: FloatFormat, g: Int, gated: Boolean = true): String =
+    s"ShaderChain_${format.name}_g$g${if (gated) "" else "_nsg"}"
 
   /** Cycles from input to output: the last MUL3 digit in cycle N+17, packing in N+18. */
   def latency(format: FloatFormat, g: Int): Int = format.manWidth + 1 + g + 18

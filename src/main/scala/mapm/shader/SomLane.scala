@@ -64,7 +64,7 @@ class SomLane(p: MapmParams) extends Module {
   val soa: ShaderUnit = {
     val (g, tags, depth) = (p.numbers.guardDigits, p.indices.pixelBits + p.indices.queryBits + p.indices.nodeBits, Some(FpuDepth.of(fmt, p.numbers.fpuStageWeight)))
     p.sim.fidelity match {
-      case Fidelity.Full => Module(new SOA(fmt, g, tags, depth, p.numbers.arith))
+      case Fidelity.Full => Module(new SOA(fmt, g, tags, depth, p.numbers.arith, p.clocking.soaStageGate))
       case Fidelity.Timing => Module(new SoaTiming(fmt, g, tags, depth, p.numbers.arith, cond = p.sim.coproc))
     }
   }
