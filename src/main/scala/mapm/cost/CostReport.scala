@@ -28,6 +28,9 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     activity.value.get("validRate").flatMap(_.numOpt).filter(_ > 0).map(r => dynamicPjPerCycle / r / 1000)
   /** Dynamic power (mW) at clock `ghz`. */
   def dynamicMwAt(ghz: Double): Double = dynamicPjPerCycle * ghz
+  /** With clock gates: the dynamic energy per cycle (pJ) were every gate's clock running in
+    * every cycle ([[Sta.AtClock.ungatedDynamicMw]]). */
+  def ungatedPjPerCycle: Option[Double] = clocks.head.ungatedDynamicMw.map(_ / clocks.head.clockGHz)
 
   def json: ujson.Obj = ujson.Obj(
     "unit" -> unit, "top" -> top, "format" -> format, "g" -> g.map(ujson.Num(_)).getOrElse(ujson.Null), "latency" -> latency,
@@ -35,6 +38,7 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     "atFmax" -> ujson.Obj("clockGHz" -> fmaxGHz, "dynamicPowerMw" -> dynamicMwAt(fmaxGHz),
       "leakagePowerMw" -> clocks.head.leakageMw, "dynamicPjPerCycle" -> dynamicPjPerCycle),
     "energyPerOpNj" -> energyPerOpNj.map(ujson.Num(_)).getOrElse(ujson.Null),
+    "ungatedDynamicPjPerCycle" -> ungatedPjPerCycle.map(ujson.Num(_)).getOrElse(ujson.Null),
     "areaUm2" -> areaUm2, "seqAreaUm2" -> seqAreaUm2, "combAreaUm2" -> combAreaUm2,
     "criticalPath" -> ujson.Obj("start" -> criticalStart, "end" -> criticalEnd),
     "cells" -> ujson.Obj.from(cells.toSeq.sortBy(_._1).map { case (k, v) => k -> ujson.Num(v) }),
@@ -59,6 +63,9 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
       f"${dynamicMwAt(fmaxGHz)}%.3f mW ($dynamicPjPerCycle%.1f pJ per cycle" +
       energyPerOpNj.fold("")(e => f", $e%.3f nJ per operation") + f"); area $areaUm2%.0f um^2 " +
       f"(sequential $seqAreaUm2%.0f, combinational $combAreaUm2%.0f), ${cells.values.sum} cells\n"
+    for (u <- ungatedPjPerCycle; n <- activity.value.get("clockGates"); d <- activity.value.get("gateDutyMean"))
+      sb ++= f"clock gates: ${n.num}%.0f, enabled ${d.num * 100}%.1f %% of the cycles on average; with every gate's clock running " +
+        f"$u%.1f pJ per cycle\n"
     sb ++= f"gate-level check: ${check("operations").num}%.0f operations, ${check("mismatches").num}%.0f mismatches; " +
       f"mean net activity ${activity("meanActivity").num}%.3f toggles/cycle\n"
     sb ++= "run time (s): " + Seq("emit", "synthesis", "gateLevel", "sta", "total").flatMap(k =>

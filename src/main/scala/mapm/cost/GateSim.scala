@@ -23,6 +23,12 @@ import scala.collection.mutable
   * All state starts at 0 in every lane. Latches, tristate outputs and inout ports are refused
   * (a [[MapmError]]), as are cells the library lacks. A net nothing drives stays 0.
   *
+  * '''Clock gates.''' A rising-edge flip-flop may also be clocked by a gated clock ([[ClockGates]]: a
+  * latch open while the clock is low, ANDed with the clock, the only latches allowed): it loads
+  * at a step only in the lanes where the gate's enable, settled in that cycle, is 1 (and its
+  * parent gate's, for a gate behind a gate). The gated clock's activity is 2 and its duty 0.5 in
+  * the enabled cycle-lanes, 0 in the others; [[gateDuty]] gives each gate's enabled fraction.
+  *
   * '''Cycles.''' [[poke]] sets input ports; [[step]] is one clock cycle: combinational logic
   * settles with the inputs as poked and the current state (the values of the cycle, which
   * activity counts), then all rising-edge flops load at once; if the netlist has falling-edge
@@ -60,6 +66,14 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
     case None    => -1
   }
 
+  /** The clock network: inverters of the clock and clock gates, which the settle leaves out. */
+  val clockNetwork: ClockGates.Network = ClockGates.find(netlist, libCells, clockNet)
+  private val gates = clockNetwork.gates
+  /** Each gate's enabled lanes in the current step, and the enabled cycle-lanes counted. */
+  private val gateMask = new Array[Long](gates.size)
+  private val gateEnabled = new Array[Long](gates.size)
+  private val gateIndex: Map[Int, Int] = gates.map(_.held).zipWithIndex.toMap
+
   /** The compiled library cells, by name, as instances need them. */
   private val programs = mutable.HashMap.empty[String, CellProgram]
   private def program(cell: Liberty.Cell): CellProgram = programs.getOrElseUpdate(cell.name, CellPrograms.compile(cell, netlist.top))
@@ -70,7 +84,7 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
   /** The flip-flop instances, in netlist order, and their state slots (4 each, from `stateBase`). */
   private val flops: IndexedSeq[Int] = netlist.cells.indices.filter(i => libCells(i).ff.isDefined)
   private val scratchBase = netCount
-  private val stateBase = scratchBase + netlist.cells.indices.map(i => program(libCells(i)).temps).maxOption.getOrElse(0)
+  private val stateBase = scratchBase + netlist.cells.indices.filterNot(clockNetwork.cells).map(i => program(libCells(i)).temps).maxOption.getOrElse(0)
   private val flopSlot: Map[Int, Int] = flops.zipWithIndex.map { case (inst, k) => inst -> (stateBase + 4 * k) }.toMap
 
   /** Every slot's 64 lanes: the nets (`0 until netCount`), the scratch slots, the flop states. */
@@ -86,9 +100,9 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
   }
 
   /** Per clock edge: the programs that compute the flops' next state, and the (from, to) slot
-    * pairs that then load it.
+    * pairs that then load it (those of the flops behind each gate apart).
     */
-  private val (riseCode, riseLoad, fallCode, fallLoad) = edgePrograms()
+  private val (riseCode, riseLoad, fallCode, fallLoad, gatedLoad) = edgePrograms()
 
   /** Whether inputs or state changed since the last settle. */
   private var dirty = true
@@ -131,21 +145,24 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
   private def evaluationOrder(): Array[Int] = {
     val n = netlist.cells.size
     val driverOf = drivers.map {
-      case Netlist.Driver.FromPin(inst, _) => inst
+      case Netlist.Driver.FromPin(inst, _) if !clockNetwork.cells(inst) => inst
       case _                               => -1
     }.toArray
     val reads: Array[Array[Int]] = Array.tabulate(n) { i =>
-      val outputs = program(libCells(i)).outputs.filter { case (pin, _) => netlist.cells(i).pins.contains(pin) }
-      outputs.flatMap(_._2).flatMap(instr => Seq(instr.a, instr.b)).collect { case PinRef(pin) => pinNet(pin, i) }.distinct.toArray
+      if (clockNetwork.cells(i)) Array.emptyIntArray
+      else {
+        val outputs = program(libCells(i)).outputs.filter { case (pin, _) => netlist.cells(i).pins.contains(pin) }
+        outputs.flatMap(_._2).flatMap(instr => Seq(instr.a, instr.b)).collect { case PinRef(pin) => pinNet(pin, i) }.distinct.toArray
+      }
     }
-    for (i <- 0 until n if reads(i).contains(clockNet))
-      MapmError.fail(s"gate simulation of ${netlist.top}: the clock $clock feeds logic (${netlist.cells(i).name}, ${netlist.cells(i).cellType}); only flip-flop clock pins may read it")
+    for (i <- 0 until n if reads(i).exists(clockNetwork.nets))
+      MapmError.fail(s"gate simulation of ${netlist.top}: the clock $clock feeds logic (${netlist.cells(i).name}, ${netlist.cells(i).cellType}); only flip-flop clock pins and clock gates may read it")
     val (fresh, open, finished) = (0, 1, 2)
     val mark = Array.fill(n)(fresh)
     val order = new mutable.ArrayBuilder.ofInt // depth-first: after the instances it reads
     val stack = new Array[Int](n) // instances being visited, each waiting on its next input
     val nextInput = new Array[Int](n)
-    for (root <- 0 until n if mark(root) == fresh) {
+    for (root <- 0 until n if mark(root) == fresh && !clockNetwork.cells(root)) {
       var depth = 1
       stack(0) = root
       nextInput(0) = 0
@@ -180,25 +197,39 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
     topological.sortBy(i => (level(i).toLong << 32) | typeRank(netlist.cells(i).cellType))
   }
 
-  /** The next-state programs and load pairs of the rising-edge and falling-edge flops. */
-  private def edgePrograms(): (Array[Int], Array[Int], Array[Int], Array[Int]) = {
+  /** The lanes in which gate `k` (and every gate above it) lets the clock through this cycle. */
+  private def enableGates(): Unit = for (k <- gates.indices) {
+    val g = gates(k)
+    val parent = gateIndex.get(g.parent).map(gateMask).getOrElse(-1L)
+    gateMask(k) = values(g.enable) & parent
+    values(g.held) = values(g.enable) // the latch ends the cycle holding the enable
+  }
+
+  /** The next-state programs and load pairs of the rising-edge and falling-edge flops, and of
+    * the flops behind each gate. */
+  private def edgePrograms(): (Array[Int], Array[Int], Array[Int], Array[Int], Array[Array[Int]]) = {
     val code = Map(true -> new mutable.ArrayBuilder.ofInt, false -> new mutable.ArrayBuilder.ofInt)
     val load = Map(true -> new mutable.ArrayBuilder.ofInt, false -> new mutable.ArrayBuilder.ofInt)
+    val gated = Array.fill(gates.size)(new mutable.ArrayBuilder.ofInt)
     for (inst <- flops) {
       val prog = program(libCells(inst))
       val (clockPin, rising) = prog.edge.get
       val cellName = netlist.cells(inst).name
       if (clockNet < 0)
         MapmError.fail(s"gate simulation of ${netlist.top}: flip-flop $cellName needs the clock, but there is no input port $clock")
-      val net = pinNet(clockPin, inst)
-      if (net != clockNet)
-        MapmError.fail(s"gate simulation of ${netlist.top}: flip-flop $cellName is clocked by ${netlist.describe(net)}, not by the clock port $clock")
+      val net = clockNetwork.clockOf.getOrElse(pinNet(clockPin, inst), -2)
+      val gate = gateIndex.get(net)
+      if (net != clockNet && gate.isEmpty)
+        MapmError.fail(s"gate simulation of ${netlist.top}: flip-flop $cellName is clocked by ${netlist.describe(pinNet(clockPin, inst))}, not by the clock port $clock or a clock gate")
+      if (gate.isDefined && !rising)
+        MapmError.fail(s"gate simulation of ${netlist.top}: flip-flop $cellName loads on the falling edge of a gated clock")
       emit(prog.next, inst, code(rising))
       val base = flopSlot(inst)
-      load(rising) ++= Array(base + NextState, base + State)
-      if (prog.next.exists(_.dst == StateRef(NextInverted))) load(rising) ++= Array(base + NextInverted, base + StateInverted)
+      val to = gate.map(gated).getOrElse(load(rising))
+      to ++= Array(base + NextState, base + State)
+      if (prog.next.exists(_.dst == StateRef(NextInverted))) to ++= Array(base + NextInverted, base + StateInverted)
     }
-    (code(true).result(), load(true).result(), code(false).result(), load(false).result())
+    (code(true).result(), load(true).result(), code(false).result(), load(false).result(), gated.map(_.result()))
   }
 
   // ---------------------------------------------------------------- running
@@ -233,6 +264,12 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
     while (k < pairs.length) { values(pairs(k + 1)) = values(pairs(k)); k += 2 }
   }
 
+  /** As [[load]], in the lanes of `mask` only. */
+  private def load(pairs: Array[Int], mask: Long): Unit = {
+    var k = 0
+    while (k < pairs.length) { values(pairs(k + 1)) = (values(pairs(k)) & mask) | (values(pairs(k + 1)) & ~mask); k += 2 }
+  }
+
   /** Settles the combinational logic if an input or the state changed since the last settle. */
   private def settle(): Unit = if (dirty) { run(settleCode); dirty = false }
 
@@ -248,6 +285,7 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
       prev(net) = now
       net += 1
     }
+    for (k <- gates.indices) gateEnabled(k) += java.lang.Long.bitCount(gateMask(k) & mask)
     sampledBefore = true
     sampledCycles += 1
   }
@@ -255,9 +293,11 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
   /** Runs `n` clock cycles (see the class comment). */
   def step(n: Int = 1): Unit = for (_ <- 0 until n) {
     settle()
+    enableGates()
     sample()
     run(riseCode)
     load(riseLoad)
+    for (k <- gates.indices) load(gatedLoad(k), gateMask(k))
     dirty = true
     if (fallCode.nonEmpty) {
       settle()
@@ -349,13 +389,23 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
   /** The lanes in use in which `net` was 1, summed over the counted steps. */
   def highCount(net: Int): Long = highCounts(net)
 
-  /** Toggles of `net` per cycle and lane: 2 for the clock; 0 before any step. */
-  def activity(net: Int): Double =
-    if (net == clockNet) 2.0 else if (sampledCycles == 0) 0.0 else toggles(net).toDouble / (sampledCycles * lanes)
+  /** The fraction of counted cycle-lanes in which gate `k` of [[clockNetwork]] let the clock
+    * through (its enable and its parents' were 1); 0 before any step. */
+  def gateDuty(k: Int): Double = if (sampledCycles == 0) 0.0 else gateEnabled(k).toDouble / (sampledCycles * lanes)
 
-  /** The fraction of counted cycle-lanes in which `net` was 1: 0.5 for the clock; 0 before any step. */
-  def duty(net: Int): Double =
-    if (net == clockNet) 0.5 else if (sampledCycles == 0) 0.0 else highCount(net).toDouble / (sampledCycles * lanes)
+  /** The enabled fraction of the clock net `level` (the root's: 1). */
+  private def levelDuty(level: Int): Double = gateIndex.get(level).map(gateDuty).getOrElse(1.0)
+
+  /** Toggles of `net` per cycle and lane: for a net of the clock network that switches with a
+    * clock ([[ClockGates.Network.levelOf]]), 2 times that clock's enabled fraction (2 for the
+    * root clock); 0 before any step. */
+  def activity(net: Int): Double = clockNetwork.levelOf.get(net).map(l => 2 * levelDuty(l)).getOrElse(
+    if (sampledCycles == 0) 0.0 else toggles(net).toDouble / (sampledCycles * lanes))
+
+  /** The fraction of counted cycle-lanes in which `net` was 1: half the enabled fraction for a
+    * net that switches with a clock (0.5 for the root clock); 0 before any step. */
+  def duty(net: Int): Double = clockNetwork.levelOf.get(net).map(l => 0.5 * levelDuty(l)).getOrElse(
+    if (sampledCycles == 0) 0.0 else highCount(net).toDouble / (sampledCycles * lanes))
 
   /** Restarts the activity counts (to leave out reset and warm-up): the next step's toggles
     * still compare with the step before it.
@@ -363,6 +413,7 @@ final class GateSim(val netlist: Netlist, library: Liberty.Library, clock: Strin
   def resetActivity(): Unit = {
     java.util.Arrays.fill(toggleCounts, 0L)
     java.util.Arrays.fill(highCounts, 0L)
+    java.util.Arrays.fill(gateEnabled, 0L)
     sampledCycles = 0
   }
 

@@ -20,12 +20,23 @@ import scala.sys.process._
   * every pin with `sta::set_power_pin_activity` (ports with `sta::set_power_input_port_activity`).
   * A global activity (`set_power_activity -global`) would override every pin's, so it is set only
   * when no pin activity is given.
+  *
+  * Clock gates: OpenSTA clocks every register behind a clock gate in every cycle (it takes the
+  * clock's activity for a clock pin, whatever activity the pin is given). So with `gated` levels
+  * (the cells whose power follows one gate's clock, and the fraction of cycles it runs) the power
+  * is found twice more: per instance with every gate running, then with every gate stopped
+  * (`set_case_analysis 0` on the gates' latch outputs, `stopPins`), in total at each clock and per
+  * instance. The reported power is the stopped total plus, for each level, its duty times what
+  * its cells draw beyond the stopped figure (dynamic power is linear in each clock's rate);
+  * [[AtClock.ungatedDynamicMw]] is the same sum with every gate open in every cycle. The stops are lifted
+  * before fmax is searched. The switching of the gated clock nets is left out (see
+  * [[GatedLevel]]), in the stopped total too, where those nets are constant.
   */
 object Sta {
   /** Timing and power at one clock. Power in mW, times in ns. */
   final case class AtClock(clockGHz: Double, periodNs: Double, worstSlackNs: Double, startPoint: String,
                            endPoint: String, arrivalNs: Double, internalMw: Double, switchingMw: Double,
-                           leakageMw: Double) {
+                           leakageMw: Double, ungatedDynamicMw: Option[Double] = None) {
     def slackMet: Boolean = worstSlackNs >= 0
     def dynamicMw: Double = internalMw + switchingMw
   }
@@ -39,13 +50,21 @@ object Sta {
   /** Activity of one pin or input port: transitions per clock cycle and duty (fraction of time 1). */
   final case class Activity(activity: Double, duty: Double)
 
+  /** The cells whose dynamic power beyond the stopped-clock figure scales with `duty`, the
+    * fraction of cycles their clock runs (the flip-flops behind one clock gate and the logic of its
+    * gated clock; or a gate's latch, duty 1). The switching power of `clockDrivers` (those that
+    * drive a gated clock net) is left out, as the root clock net's always is (a port drives it):
+    * the clock distribution's switching is a clock tree's, which no flow here builds. */
+  final case class GatedLevel(cells: Seq[String], duty: Double, clockDrivers: Set[String] = Set.empty)
+
   /** Runs OpenSTA on `netlists` (module `top`) at each clock in `clocksGHz`. `pinActivity` maps
     * instance pins (`inst/PIN`) and `portActivity` input port bits (`name[i]` or `name`) to their
     * activity; `defaultActivity` applies to input ports not listed and, when no activity is listed
     * at all, to every pin. Writes the script and log into `workDir`. */
   def run(netlistFiles: Seq[Path], top: String, libFile: Path, clocksGHz: Seq[Double], workDir: Path,
           pinActivity: Iterable[(String, Activity)], portActivity: Iterable[(String, Activity)],
-          defaultActivity: Activity = Activity(0.1, 0.5), clockPort: String = "clock"): Report = {
+          defaultActivity: Activity = Activity(0.1, 0.5), clockPort: String = "clock",
+          gated: Seq[GatedLevel] = Seq.empty, stopPins: Seq[String] = Seq.empty): Report = {
     MapmError.check(clocksGHz.nonEmpty && clocksGHz.forall(c => c > 0 && c < 100), s"cost: clocks must be in (0, 100) GHz, got ${clocksGHz.mkString(",")}")
     val dir = workDir.toAbsolutePath
     val netlists = netlistFiles.map(_.toAbsolutePath)
@@ -58,6 +77,14 @@ object Sta {
       for ((pin, a) <- pinActivity) w.write(f"sta::set_power_pin_activity [get_pins {$pin}] ${a.activity}%.6g ${a.duty}%.6g\n")
       for ((port, a) <- portActivity) w.write(f"sta::set_power_input_port_activity [get_ports {$port}] ${a.activity}%.6g ${a.duty}%.6g\n")
     } finally w.close()
+    val gatesTcl = dir.resolve("gates.tcl")
+    val gw = Files.newBufferedWriter(gatesTcl, StandardCharsets.UTF_8)
+    try {
+      gw.write("set mapm_gate_cells {}\n")
+      for (c <- gated.flatMap(_.cells).distinct) gw.write(s"lappend mapm_gate_cells {$c}\n")
+      gw.write("set mapm_stop_pins {}\n")
+      for (p <- stopPins) gw.write(s"lappend mapm_stop_pins {$p}\n")
+    } finally gw.close()
     val periods = clocksGHz.map(1.0 / _)
     val script =
       s"""|read_liberty {$lib}
@@ -98,6 +125,23 @@ object Sta {
           |  report_power -digits 6
           |  puts "MAPM_END"
           |}
+          |${if (gated.isEmpty) "" else s"""source {$gatesTcl}
+          |mapm_clock ${periods.head}
+          |puts "MAPM_CELLS_RUNNING"
+          |report_power -instances [get_cells $$mapm_gate_cells] -digits 6
+          |puts "MAPM_CELLS_END"
+          |foreach p $$mapm_stop_pins { set_case_analysis 0 [get_pins $$p] }
+          |foreach period {${periods.mkString(" ")}} {
+          |  mapm_clock $$period
+          |  puts "MAPM_STOPPED $$period [mapm_slack]"
+          |  report_power -digits 6
+          |  puts "MAPM_END"
+          |}
+          |mapm_clock ${periods.head}
+          |puts "MAPM_CELLS_STOPPED"
+          |report_power -instances [get_cells $$mapm_gate_cells] -digits 6
+          |puts "MAPM_CELLS_END"
+          |foreach p $$mapm_stop_pins { unset_case_analysis [get_pins $$p] }"""}
           |# fmax by bisection on the period (lo fails, hi meets), bracketed around period - slack
           |mapm_clock ${periods.head}
           |set d [expr ${periods.head} - [mapm_slack]]
@@ -118,8 +162,43 @@ object Sta {
     Files.write(tcl, script.getBytes(StandardCharsets.UTF_8))
     val t0 = System.nanoTime()
     val text = runSta(tcl, dir.resolve("sta.log"), s"on $top", "MAPM_FMAX_PERIOD", 0)
-    Report(parseClocks(text), 1.0 / """MAPM_FMAX_PERIOD ([0-9.eE+-]+)""".r.findFirstMatchIn(text).get.group(1).toDouble,
+    val clocks = parseClocks(text)
+    Report(if (gated.isEmpty) clocks else gatedPower(text, clocks, gated, periods.head),
+      1.0 / """MAPM_FMAX_PERIOD ([0-9.eE+-]+)""".r.findFirstMatchIn(text).get.group(1).toDouble,
       (System.nanoTime() - t0) / 1e9)
+  }
+
+  /** The clocks' power with each gated level at its duty (see the class comment): the stopped
+    * totals plus each level's duty times its cells' running-minus-stopped power, measured at
+    * `period0` and scaled to each clock. */
+  private[cost] def gatedPower(text: String, running: Seq[AtClock], gated: Seq[GatedLevel], period0: Double): Seq[AtClock] = {
+    def cells(marker: String): Map[String, (Double, Double)] = {
+      val body = text.split(marker).lift(1).getOrElse(MapmError.fail(s"OpenSTA printed no $marker section")).split("MAPM_CELLS_END")(0)
+      (("""(?m)^\s*""" + num + """\s+""" + num + """\s+""" + num + """\s+""" + num + """\s+(\S+)\s*$""").r.findAllMatchIn(body)
+        .map(m => m.group(5) -> (m.group(1).toDouble * 1e3, m.group(2).toDouble * 1e3)).toMap)
+    }
+    val (on, off) = (cells("MAPM_CELLS_RUNNING"), cells("MAPM_CELLS_STOPPED"))
+    // OpenSTA keeps a stopped gate's clock net switching (the clock still reaches it): that, too,
+    // is the clock distribution's, taken out of the stopped total.
+    val driversSw = gated.flatMap(_.clockDrivers).distinct.map(c => off.get(c).map(_._2).getOrElse(0.0)).sum
+    def delta(c: String): (Double, Double) = {
+      val (a, b) = (on.getOrElse(c, MapmError.fail(s"OpenSTA reported no power for $c")), off.getOrElse(c, (0.0, 0.0)))
+      (a._1 - b._1, a._2 - b._2)
+    }
+    // Each level's extra internal and switching power at period0, times its duty.
+    val levels = gated.map { l =>
+      val d = l.cells.map(c => if (l.clockDrivers(c)) (delta(c)._1, 0.0) else delta(c))
+      (l.duty, d.map(_._1).sum, d.map(_._2).sum)
+    }
+    val (extraInt, extraSw) = (levels.map(l => l._1 * l._2).sum, levels.map(l => l._1 * l._3).sum)
+    val always = levels.map(l => l._2 + l._3).sum // every gate open
+    val stopped = parseSections(text, "MAPM_STOPPED ")
+    running.zip(stopped).map { case (r, s) =>
+      val scale = period0 / r.periodNs
+      val stoppedSw = s.switchingMw - driversSw * scale
+      r.copy(internalMw = s.internalMw + extraInt * scale, switchingMw = stoppedSw + extraSw * scale,
+        ungatedDynamicMw = Some(s.internalMw + stoppedSw + always * scale))
+    }
   }
 
   /** The whole design's timing, every path between its modules included: fmax, the worst path and
@@ -208,8 +287,10 @@ object Sta {
     text
   }
 
-  private[cost] def parseClocks(text: String): Seq[AtClock] =
-    text.split("MAPM_CLOCK ").drop(1).toSeq.map { sec =>
+  private[cost] def parseClocks(text: String): Seq[AtClock] = parseSections(text, "MAPM_CLOCK ")
+
+  private def parseSections(text: String, marker: String): Seq[AtClock] =
+    text.split(marker).drop(1).toSeq.map { sec =>
       val body = sec.split("MAPM_END")(0)
       val head = body.linesIterator.next().trim.split("\\s+")
       val period = head(0).toDouble

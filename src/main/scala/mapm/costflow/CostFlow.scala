@@ -70,7 +70,8 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
       s"cost: the synthesized ${u.top} differs from the model or the RTL (${gl.mismatches} mismatches); first: ${gl.first.getOrElse("")}")
     val t3 = System.nanoTime()
     log(s"timing and power at ${clocksGHz.mkString(", ")} GHz ...")
-    val sta = Sta.run(Seq(syn.verilog), u.top, libPath, clocksGHz, out.resolve("sta"), gl.pinActivity, gl.portActivity)
+    val sta = Sta.run(Seq(syn.verilog), u.top, libPath, clocksGHz, out.resolve("sta"), gl.pinActivity, gl.portActivity,
+      gated = gl.gatedLevels, stopPins = gl.gateStopPins)
     val t4 = System.nanoTime()
     val crit = sta.clocks.head // one clock domain: the worst path is the same at every clock
     // A flip-flop instance is named after the register its output carries.
@@ -83,7 +84,8 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
       ujson.Obj("source" -> source, "validRate" -> u.validRate, "validRateFrom" -> u.validRateSource,
         "method" -> "zero-delay gate-level simulation of the netlist, 64 lanes; toggles per net per cycle",
         "cycles" -> gl.cycles.toDouble, "lanes" -> GateLevel.Lanes, "meanActivity" -> gl.meanActivity,
-        "flopOutputActivity" -> gl.flopActivity),
+        "flopOutputActivity" -> gl.flopActivity, "clockGates" -> gl.gateDuties.size,
+        "gateDutyMean" -> (if (gl.gateDuties.isEmpty) 0.0 else gl.gateDuties.sum / gl.gateDuties.size)),
       ujson.Obj("operations" -> ops.length, "modelChecked" -> gl.checked, "rtlChecked" -> gl.rtlChecked.toDouble,
         "rtl" -> gl.rtlNote, "mismatches" -> gl.mismatches),
       ujson.Obj("emit" -> (t1 - t0) / 1e9, "synthesis" -> (t2 - t1) / 1e9, "gateLevel" -> (t3 - t2) / 1e9,

@@ -35,7 +35,7 @@ final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Op
 
   /** Unit `u` in arithmetic `a`, its reports into `dir` (default: the output folder). */
   def unit(u: String, a: Arith, dir: Path = out): UnitCost = {
-    val cu = CostUnits(u, format, g, fpuWeight, a)
+    val cu = CostUnits(u, format, g, fpuWeight, a, tuning.soaStageGate)
     val useFrame = fromFrame && cu.checksModel
     val source = if (useFrame) s"SOs/TS ops of $scene"
       else if (cu.checksModel) s"random operations (seed $seed)" else s"random digit streams (seed $seed)"
@@ -65,7 +65,7 @@ final case class CostRun(format: FloatFormat, g: Int, fpuWeight: Double, lib: Op
     val frame = if (fromFrame) Some(frameOps) else None
     val source = if (fromFrame) s"SOs/TS ops of $scene" else s"random (seed $seed)"
     val units = Seq("soa", "tsa").map { k =>
-      val cu = CostUnits(k, format, g, fpuWeight, arith)
+      val cu = CostUnits(k, format, g, fpuWeight, arith, tuning.soaStageGate)
       log(s"unit $k ...")
       val (r, gl) = CostFlow(lib, clocks, abc, out.resolve(k)).unitWithActivity(cu, format, if (k == "soa" && arith == Arith.Online) Some(g) else None,
         CostUnits.ops(cu, format, g, frame, ops, seed, arith), seed, source)

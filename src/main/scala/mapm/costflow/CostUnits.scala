@@ -54,18 +54,18 @@ object CostUnits {
     * floating-point units pipelined to `fpuWeight` of logic per stage ([[FpuDepth.of]]), and the
     * SOA and TSA in arithmetic `arith`. */
   def apply(kind: String, format: FloatFormat, g: Int,
-            fpuWeight: Double = NumberParams.DefaultFpuStageWeight, arith: Arith = Arith.Online): CostUnit = {
+            fpuWeight: Double = NumberParams.DefaultFpuStageWeight, arith: Arith = Arith.Online, stageGate: Boolean = true): CostUnit = {
     val depth = FpuDepth.of(format, fpuWeight)
     MapmError.check(arith == Arith.Online || Seq("soa", "tsa").contains(kind),
       s"cost: --arith applies to the soa and tsa units, not '$kind'")
-    unit(kind, format, g, depth, arith)
+    unit(kind, format, g, depth, arith, stageGate)
   }
 
-  private def unit(kind: String, format: FloatFormat, g: Int, depth: FpuDepth, arith: Arith): CostUnit = kind match {
+  private def unit(kind: String, format: FloatFormat, g: Int, depth: FpuDepth, arith: Arith, stageGate: Boolean): CostUnit = kind match {
     case "soa" =>
       MapmError.check(format.manWidth >= 4 || arith == Arith.Conventional,
         s"cost: the SOA needs at least 4 fraction bits, format $format has ${format.manWidth}")
-      new CostUnit("soa", SOA.name(format, g, Some(depth), arith), () => new SOA(format, g, tagWidth, Some(depth), arith),
+      new CostUnit("soa", SOA.name(format, g, Some(depth), arith, stageGate), () => new SOA(format, g, tagWidth, Some(depth), arith, stageGate),
         SOA.latency(format, g, depth, arith), soaIn,
         (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_colour_$c") ++
           (0 until mapm.params.Rgb.Channels).map(c => s"io_out_bits_flags_$c") ++ Seq("io_out_bits_cond", "io_out_bits_tag"),
@@ -76,7 +76,7 @@ object CostUnits {
         IndexedSeq("io_in_bits_p", "io_in_bits_h", "io_in_bits_s", "io_in_bits_tag"),
         IndexedSeq("io_out_bits_tcl", "io_out_bits_tcr", "io_out_bits_error", "io_out_bits_tag"), TsaRate, rateNote)
     case "cond" =>
-      new CostUnit("cond", CondCheck.name(format, tagWidth, depth), () => new CondCheck(format, tagWidth, depth), CondCheck.latency(depth),
+      new CostUnit("cond", CondCheck.name(format, tagWidth, depth, stageGate), () => new CondCheck(format, tagWidth, depth, stageGate), CondCheck.latency(depth),
         IndexedSeq("qx", "qy", "qz", "px", "py", "pz", "h", "tag").map("io_in_bits_" + _),
         IndexedSeq("io_out_bits_cond", "io_out_bits_tag"), SoaRate, rateNote + ", as the SOA")
     case "fadd" =>

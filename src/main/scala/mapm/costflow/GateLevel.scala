@@ -1,6 +1,6 @@
 package mapm.costflow
 
-import mapm.cost.{GateSim, Liberty, Netlist, Sta}
+import mapm.cost.{ClockGates, GateSim, Liberty, Netlist, Sta}
 import mapm.model.Progress
 import mapm.sim.VerilatorPipe
 import scala.collection.mutable.ArrayBuffer
@@ -60,7 +60,7 @@ object GateLevel {
     * one described. */
   final class Result(nl: Netlist, lib: Liberty.Library, val cycles: Long, activity: Array[Double], duty: Array[Double],
                      val checked: Int, val rtlChecked: Long, val rtlNote: String, val mismatches: Int,
-                     val first: Option[String]) {
+                     val first: Option[String], network: ClockGates.Network, gateDuty: IndexedSeq[Double]) {
     private def act(net: Int): Sta.Activity = Sta.Activity(activity(net), duty(net))
     /** Activity of every instance pin (`inst/PIN`) of the netlist, from the net on it. */
     def pinActivity: Seq[(String, Sta.Activity)] =
@@ -79,6 +79,39 @@ object GateLevel {
     def meanActivity: Double = mean(outputsOf(sequential = false))
     def flopActivity: Double = mean(outputsOf(sequential = true))
     private def mean(nets: Seq[Int]): Double = if (nets.isEmpty) 0 else nets.map(activity(_)).sum / nets.size
+
+    /** The clock gates' levels for the power analysis ([[Sta.GatedLevel]]): per gate, the
+      * flip-flops its clock drives and the cells of its gated clock, at the gate's measured duty;
+      * the gates' latches at duty 1. */
+    def gatedLevels: Seq[Sta.GatedLevel] = {
+      val cells = nl.libraryCells(lib)
+      val gateAt = network.gates.map(_.held).zipWithIndex.toMap
+      val level = nl.cells.indices.flatMap { i =>
+        val c = nl.cells(i)
+        val net =
+          if (cells(i).ff.isDefined) cells(i).ff.get.clockedOn.vars.headOption.flatMap(c.pins.get).flatMap(network.clockOf.get)
+          else if (network.cells(i) && cells(i).latch.isEmpty) cells(i).outputs.flatMap(o => c.pins.get(o.name)).headOption.flatMap(network.levelOf.get)
+          else None
+        net.flatMap(gateAt.get).map(_ -> c.name)
+      }.groupMap(_._1)(_._2)
+      val latches = nl.cells.indices.filter(i => network.cells(i) && cells(i).latch.isDefined).map(nl.cells(_).name)
+      // The cells that drive a gated clock: their switching is the clock distribution's.
+      val clockDrivers = nl.cells.indices.filter(i => network.cells(i) && cells(i).latch.isEmpty).map(nl.cells(_).name).toSet
+      level.toSeq.sortBy(_._1).map { case (k, cs) => Sta.GatedLevel(cs, gateDuty(k), cs.filter(clockDrivers).toSet) } ++
+        (if (latches.isEmpty) Nil else Seq(Sta.GatedLevel(latches, 1.0)))
+    }
+
+    /** The pins that stop every gate: the outputs of their latches (`inst/PIN`). */
+    def gateStopPins: Seq[String] = {
+      val drivers = nl.drivers(lib)
+      network.gates.map(g => drivers(g.held) match {
+        case Netlist.Driver.FromPin(_, pin) => pin
+        case d => sys.error(s"a clock gate's latch output driven by $d")
+      })
+    }
+
+    /** Each gate's enabled fraction of the counted cycles, in [[ClockGates.Network.gates]] order. */
+    def gateDuties: IndexedSeq[Double] = gateDuty
   }
 
   /** One observed result: the cycle and the values of the unit's `outPorts`. */
@@ -153,6 +186,7 @@ object GateLevel {
     val counted = sim.cycles
     val activity = Array.tabulate(nl.netCount)(sim.activity)
     val duty = Array.tabulate(nl.netCount)(sim.duty)
+    val gateDuty = sim.clockNetwork.gates.indices.map(sim.gateDuty)
     for (l <- 0 until Lanes; v <- validAt) cur(l)(v) = 0
     if (u.validIn.isDefined) for (_ <- 0 to u.latency + 1) { apply(cycle); sim.step(); cycle += 1 }
     if (u.checksModel) {
@@ -163,7 +197,8 @@ object GateLevel {
     // The same rows through the RTL, lane by lane.
     val rtlChecked = rtl.map(pipe => rtlCheck(u, pipe, rows, seen, at, fail(_))).getOrElse(0L)
     val note = if (rtl.isDefined) s"$rtlChecked results of ${u.top} in Verilator" else "skipped: verilator not found"
-    new Result(nl, lib, counted, activity, duty, checked, rtlChecked, note, mismatches, first)
+    new Result(nl, lib, counted, activity, duty, checked, rtlChecked, note, mismatches, first,
+      sim.clockNetwork, gateDuty)
   }
 
   private def describe(u: CostUnit, o: Obs): String =

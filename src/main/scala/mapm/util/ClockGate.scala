@@ -17,7 +17,12 @@ class ClockGate extends BlackBox with HasBlackBoxInline {
     val en = Input(Bool())
     val out = Output(Clock())
   })
-  setInline("ClockGate.sv",
+  setInline("ClockGate.sv", ClockGate.verilog)
+}
+
+object ClockGate {
+  /** The gate's SystemVerilog module. */
+  val verilog: String =
     """// Integrated clock gate: en latched while the clock is low, ANDed with the clock (mapm.util.ClockGate).
       |module ClockGate(
       |  input  in,
@@ -30,10 +35,8 @@ class ClockGate extends BlackBox with HasBlackBoxInline {
       |  end
       |  assign out = in & en_low;
       |endmodule
-      |""".stripMargin)
-}
+      |""".stripMargin
 
-object ClockGate {
   /** `clock` gated by `en` (see [[ClockGate]]). */
   def apply(clock: Clock, en: Bool): Clock = {
     val g = Module(new ClockGate)

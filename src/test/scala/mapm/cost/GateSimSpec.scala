@@ -142,6 +142,48 @@ class GateSimSpec extends AnyFunSuite {
     assert(report("clock").activity == 2.0 && report("d").duty == 6.0 / 8)
   }
 
+  test("clock gates (mapm.util.ClockGate, one behind another): flops load only when enabled, gate duty and activity") {
+    val synth = YosysSynth(mapm.util.ClockGate.verilog +
+      """module Gated(input clock, input en1, input en2, input [3:0] d, output reg [3:0] q0, output reg [3:0] q1, output reg [3:0] q2);
+        |  wire c1, c2;
+        |  ClockGate g1(.in(clock), .en(en1), .out(c1));
+        |  ClockGate g2(.in(c1), .en(en2), .out(c2));
+        |  always @(posedge clock) q0 <= d;
+        |  always @(posedge c1) q1 <= d;
+        |  always @(posedge c2) q2 <= d;
+        |endmodule
+        |""".stripMargin, "Gated")
+    val netlist = synth.netlist
+    assert(netlist.cells.count(_.cellType == "LATCH") == 2)
+    val sim = new GateSim(netlist, lib)
+    assert(sim.clockNetwork.gates.size == 2)
+    val rnd = new Random(5)
+    val model = Array.fill(3, 64)(0L)
+    val enabled = Array.fill(2)(0L)
+    val cycles = 200
+    for (_ <- 0 until cycles) {
+      val in = Array.fill(64)((rnd.nextInt(16).toLong, rnd.nextInt(3) != 0, rnd.nextBoolean()))
+      for (lane <- 0 until 64) {
+        val (d, e1, e2) = in(lane)
+        sim.pokeLong("d", lane, d); sim.pokeLong("en1", lane, if (e1) 1 else 0); sim.pokeLong("en2", lane, if (e2) 1 else 0)
+        model(0)(lane) = d
+        if (e1) { model(1)(lane) = d; enabled(0) += 1 }
+        if (e1 && e2) { model(2)(lane) = d; enabled(1) += 1 }
+      }
+      sim.step()
+      for (lane <- 0 until 64; k <- 0 until 3) assert(sim.peekLong(s"q$k", lane) == model(k)(lane), s"q$k lane $lane")
+    }
+    // The gates in network order, parent first: g1's duty is en1's, g2's en1 and en2's.
+    val Seq(g1, g2) = sim.clockNetwork.gates
+    assert(g2.parent == g1.held && g1.parent == netlist.port("clock").get.nets.head)
+    assert(sim.gateDuty(0) == enabled(0).toDouble / (cycles * 64) && sim.gateDuty(1) == enabled(1).toDouble / (cycles * 64))
+    assert(sim.gateDuty(0) > 0.6 && sim.gateDuty(0) < 0.73 && sim.gateDuty(1) > 0.28 && sim.gateDuty(1) < 0.4)
+    val q1Flop = netlist.cells.find(c => c.cellType == "DFFPOSX1" && c.pins("Q") == netlist.port("q1").get.nets.head).get
+    val c1 = q1Flop.pins("CLK")
+    assert(sim.clockNetwork.clockOf(c1) == g1.held)
+    assert(sim.activity(c1) == 2 * sim.gateDuty(0) && sim.duty(c1) == sim.gateDuty(0) / 2)
+  }
+
   test("refusals: combinational loop, latch, foreign clock, bad pokes") {
     def port(name: String, dir: Liberty.Direction, nets: Int*) = Netlist.Port(name, dir, nets.toIndexedSeq, nets.indices.map(i => s"$name[$i]"))
     val in = Liberty.Direction.Input
@@ -153,12 +195,19 @@ class GateSimSpec extends AnyFunSuite {
       "gate simulation of loop: combinational loop through n1 (NAND2X1), n2 (NAND2X1)")
     val latch = Netlist("latch", IndexedSeq(port("a", in, 2), port("clock", in, 3)),
       IndexedSeq(Netlist.Instance("l", "LATCH", Map("CLK" -> 3, "D" -> 2, "Q" -> 4))), IndexedSeq.empty, 5)
-    assert(intercept[MapmError](new GateSim(latch, lib)).getMessage == "gate simulation of latch: unsupported cell LATCH (latch)")
-    val tristate = latch.copy(top = "tri", cells = IndexedSeq(Netlist.Instance("t", "TBUFX1", Map("A" -> 2, "EN" -> 3, "Y" -> 4))))
+    assert(intercept[MapmError](new GateSim(latch, lib)).getMessage == "gate simulation of latch: a latch on a clock is not " +
+      "open exactly while its clock is low (l, LATCH); only flip-flop clock pins and clock gates (a latch open while the clock is low, ANDed with it) may read a clock")
+    val loose = latch.copy(top = "loose", cells = IndexedSeq(Netlist.Instance("l", "LATCH", Map("CLK" -> 2, "D" -> 2, "Q" -> 4))))
+    assert(intercept[MapmError](new GateSim(loose, lib)).getMessage == "gate simulation of loose: unsupported cell LATCH (latch)")
+    val clockLogic = latch.copy(top = "logic", cells = IndexedSeq(Netlist.Instance("x", "XOR2X1", Map("A" -> 3, "B" -> 2, "Y" -> 4))))
+    assert(intercept[MapmError](new GateSim(clockLogic, lib)).getMessage.startsWith("gate simulation of logic: a clock feeds logic (x, XOR2X1)"))
+    val tristate = latch.copy(top = "tri", cells = IndexedSeq(Netlist.Instance("t", "TBUFX1", Map("A" -> 2, "EN" -> 2, "Y" -> 4))))
     assert(intercept[MapmError](new GateSim(tristate, lib)).getMessage == "gate simulation of tri: unsupported cell TBUFX1 (tristate output Y)")
-    val gated = latch.copy(top = "gated", cells = IndexedSeq(Netlist.Instance("f", "DFFPOSX1", Map("CLK" -> 2, "D" -> 3, "Q" -> 4))))
+    val dataClock = latch.copy(top = "data", cells = IndexedSeq(Netlist.Instance("f", "DFFPOSX1", Map("CLK" -> 3, "D" -> 3, "Q" -> 4))))
+    assert(intercept[MapmError](new GateSim(dataClock, lib)).getMessage.startsWith("gate simulation of data: a clock reaches a flip-flop's data (f, DFFPOSX1)"))
+    val gated = latch.copy(top = "gated", cells = IndexedSeq(Netlist.Instance("f", "DFFPOSX1", Map("CLK" -> 2, "D" -> 2, "Q" -> 4))))
     assert(intercept[MapmError](new GateSim(gated, lib)).getMessage ==
-      "gate simulation of gated: flip-flop f is clocked by a[0], not by the clock port clock")
+      "gate simulation of gated: flip-flop f is clocked by a[0], not by the clock port clock or a clock gate")
     val sim = new GateSim(gated.copy(cells = IndexedSeq.empty), lib)
     assert(intercept[MapmError](sim.pokeLong("clock", 0, 1)).getMessage ==
       "gate simulation of gated: no input port clock to poke (the clock is driven by step())")

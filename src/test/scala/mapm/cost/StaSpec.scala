@@ -121,6 +121,39 @@ class StaSpec extends AnyFunSuite {
     assert(behind > 0.5 * direct && behind < 2 * direct, s"internal power behind the gate $behind mW, on the port $direct mW")
   }
 
+  test("flip-flops behind a latch-and-AND clock gate open a fraction e of the cycles: e times the Liberty clock energy") {
+    val dff = cell("DFFPOSX1")
+    val n = 64
+    val net = write(s"module greg(clock, en, d, q);\n  input clock;\n  input en;\n  input [${n - 1}:0] d;\n  output [${n - 1}:0] q;\n" +
+      "  wire cn, h, g;\n  INVX1 i (.A(clock), .Y(cn));\n  LATCH l (.CLK(cn), .D(en), .Q(h));\n  AND2X2 a (.A(clock), .B(h), .Y(g));\n" +
+      (0 until n).map(i => s"  DFFPOSX1 r$i (.CLK(g), .D(d[$i]), .Q(q[$i]));\n").mkString + "endmodule\n")
+    val zero = Sta.Activity(0, 0.5)
+    val pins = (0 until n).flatMap(i => Seq(s"r$i/D" -> zero, s"r$i/Q" -> zero)) ++ Seq("l/D" -> zero, "l/Q" -> zero)
+    val ports = (0 until n).map(i => s"d[$i]" -> zero) :+ ("en" -> zero)
+    val f = 0.5
+    def at(e: Double): Sta.AtClock = Sta.run(Seq(net), "greg", tools().osu018Lib, Seq(f), net.getParent.resolve(s"sta-$e"), pins, ports,
+      gated = Seq(Sta.GatedLevel((0 until n).map(i => s"r$i") :+ "a", e, Set("a")), Sta.GatedLevel(Seq("l"), 1.0)),
+      stopPins = Seq("l/Q")).clocks.head
+    val lo = dff.riseEnergy.min + dff.fallEnergy.min
+    val hi = dff.riseEnergy.max + dff.fallEnergy.max
+    val overhead = 0.02 // pJ per flip-flop and cycle: the inverter's and the latch's share, always clocked
+    val (full, stopped) = (at(1.0), at(0.0))
+    val perCycle = (r: Sta.AtClock) => r.dynamicMw / f / n
+    info(f"per flip-flop and cycle: stopped ${perCycle(stopped)}%.4f pJ, open ${perCycle(full)}%.4f pJ; Liberty CLK energy $lo%.4f to $hi%.4f pJ")
+    // Stopped, a flip-flop keeps its data pin's energy (the input ports' default activity) and
+    // its share of the latch's: well below a clocked cycle's.
+    assert(perCycle(stopped) < 0.5 * perCycle(full), s"stopped: ${perCycle(stopped)} pJ per flip-flop cycle")
+    for (e <- Seq(0.0, 0.25, 0.75)) {
+      val r = at(e)
+      val pj = perCycle(r) - perCycle(stopped)
+      assert(pj >= e * lo - 1e-9 && pj <= e * hi + overhead, s"duty $e: $pj pJ per flip-flop cycle outside [${e * lo}, ${e * hi} + $overhead]")
+      // Linear in the duty between the stopped and the open figures; the open figure in every cycle kept beside.
+      assert(math.abs(pj - e * (perCycle(full) - perCycle(stopped))) < 1e-6)
+      assert(math.abs(r.ungatedDynamicMw.get - full.dynamicMw) < 1e-6)
+    }
+    assert(perCycle(full) - perCycle(stopped) >= lo && perCycle(full) - perCycle(stopped) <= hi + overhead)
+  }
+
   test("a path from one module into another is timed whole: hierarchical and hand-flattened netlists need the same period") {
     val k = 12
     def invs(prefix: String, from: String, to: String): String =

@@ -93,14 +93,16 @@ class MapmRtlSpec extends AnyFunSuite {
     (r.outcome.stats.get, Files.readAllLines(results).asScala.toSeq, r.outcome.verdict)
   }
 
-  // SOA clock gating (docs/mapm.md): with every SOA clocked in every cycle instead, the same frame
-  // under the same memory seed gives the same result beats (cycle, port, q, photon), the same
-  // cycles and every counter equal; the harness checks every colour in both runs.
-  test("2/1/2 fp32 SOA clock gating: beat for beat and counter for counter the ungated RTL on two scenes") {
+  // Clock gating (docs/mapm.md, docs/soa.md): with every SOA, and every register inside it, clocked
+  // in every cycle instead, the same frame under the same memory seed gives the same result beats
+  // (cycle, port, q, photon), the same cycles and every counter equal; the harness checks every
+  // colour in both runs.
+  test("2/1/2 fp32 SOA and stage clock gating: beat for beat and counter for counter the ungated RTL on two scenes") {
     assume(haveVerilator, "verilator is not on PATH")
     val gated = Configure.of(2, 1, 2, FloatFormat.fp32, 3)
-    val ungated = Configure.of(2, 1, 2, FloatFormat.fp32, 3, tuning = Tuning(soaClockGate = false))
-    assert(gated.clocking.soaClockGate && !ungated.clocking.soaClockGate && ungated.name == gated.name.replace("_ring", "_nocg_ring"))
+    val ungated = Configure.of(2, 1, 2, FloatFormat.fp32, 3, tuning = Tuning(soaClockGate = false, soaStageGate = false))
+    assert(gated.clocking.soaClockGate && gated.clocking.soaStageGate && !ungated.clocking.soaClockGate &&
+      !ungated.clocking.soaStageGate && ungated.name == gated.name.replace("_ring", "_nocg_nsg_ring"))
     for (prep <- Seq(small, large)) {
       val (gs, gr, _) = resultBeats(prep, gated, 41L)
       val (us, ur, _) = resultBeats(prep, ungated, 41L)
