@@ -58,7 +58,8 @@ object CostCommand extends Command {
       "cost: --compare needs --unit soa or --unit tsa, or --tsm/--som/--soa for the whole MAPM")
     MapmError.check(frameStats.isEmpty || (counts.forall(_.isDefined) && !compare.value),
       "cost: --frame-stats applies to a whole MAPM (--tsm/--som/--soa) without --compare")
-    val tuned = hw.tuning.describe
+    // Stage gating is inside the SOA (and the cond check): it applies to those units too.
+    val tuned = hw.tuning.describe.filterNot(t => t == "no-soa-stage-gate" && unit.forall(u => u == "soa" || u == "cond"))
     MapmError.check(unit.isEmpty || tuned.isEmpty,
       s"cost: --${tuned.headOption.getOrElse("").takeWhile(_ != '=')} applies to a whole MAPM (--tsm/--som/--soa), not to --unit")
     val run = CostRun(format, g, fpuWeight, libPath, clocks, abc, ops, stimulus == "frame", scene, seed, Paths.get(out), hw.tuning)

@@ -73,7 +73,9 @@ final case class CostFlow(lib: Option[Path], clocksGHz: Seq[Double], abc: String
     val sta = Sta.run(Seq(syn.verilog), u.top, libPath, clocksGHz, out.resolve("sta"), gl.pinActivity, gl.portActivity,
       gated = gl.gatedLevels, stopPins = gl.gateStopPins)
     val t4 = System.nanoTime()
-    val crit = sta.clocks.head // one clock domain: the worst path is the same at every clock
+    // The path that limits fmax: the worst at the clock nearest it (at a slow clock a clock gate's
+    // half-cycle check can be the worst path without limiting anything).
+    val crit = sta.clocks.minBy(c => math.abs(c.worstSlackNs))
     // A flip-flop instance is named after the register its output carries.
     def point(p: String): String = netlist.cells.find(_.name == p).flatMap { c =>
       library.cells.get(c.cellType).filter(_.isSequential).flatMap(_.outputs.headOption).flatMap(o => c.pins.get(o.name))

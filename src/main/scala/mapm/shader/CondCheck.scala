@@ -85,13 +85,19 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth, va
     u.io.out
   }
   /** `x`, at depth `at`, delayed by `cycles` registers that load only while the valid bit beside
-    * them is set (gated: clocked only then). */
-  private def delay[T <: Data](x: Valid[T], cycles: Int, at: Int): Valid[T] = (0 until cycles).foldLeft(x) { (d, k) =>
-    val r = Wire(Valid(chiselTypeOf(d.bits)))
-    r.valid := RegNext(d.valid, false.B)
-    r.bits := (if (gated) stages.reg(d.bits, at + k) else RegEnable(d.bits, d.valid))
-    r
-  }
+    * them is set (gated: clocked only then, or a ring, [[StageGates.delay]]). */
+  private def delay[T <: Data](x: Valid[T], cycles: Int, at: Int): Valid[T] =
+    if (gated) {
+      val r = Wire(Valid(chiselTypeOf(x.bits)))
+      r.valid := ShiftRegister(x.valid, cycles, false.B, true.B)
+      r.bits := stages.delay(x.bits, cycles, at)
+      r
+    } else (0 until cycles).foldLeft(x) { (d, _) =>
+      val r = Wire(Valid(chiselTypeOf(d.bits)))
+      r.valid := RegNext(d.valid, false.B)
+      r.bits := RegEnable(d.bits, d.valid)
+      r
+    }
   private def input[T <: Data](x: T): Valid[T] = {
     val v = Wire(Valid(chiselTypeOf(x)))
     v.valid := io.in.valid

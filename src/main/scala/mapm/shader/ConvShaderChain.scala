@@ -55,7 +55,7 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
 
   // MUL1 and the divider, shared by the channels.
   private val t1 = mul(io.in.valid, req.kernel, req.brdf, 0)
-  private val t2 = div(t1.valid, t1.bits, stages.shift(req.h, depth.mul, 0), depth.mul)
+  private val t2 = div(t1.valid, t1.bits, stages.delay(req.h, depth.mul, 0), depth.mul)
   private val toMul2 = depth.mul + depth.div
   private val toMul3 = toMul2 + depth.mul
 
@@ -78,12 +78,12 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
     s.flushed := flushedShared || f.isFlushed(req.power(c)) || f.isFlushed(req.contrib(c))
     s
   })
-  private val specialLate = stages.shift(special, latency - 1, 0)
+  private val specialLate = stages.delay(special, latency - 1, 0)
 
   // MUL2 and MUL3 per channel, then the output rule (one registered cycle).
   private val t4 = (0 until Rgb.Channels).map { c =>
-    val t3 = mul(t2.valid, t2.bits, stages.shift(req.power(c), toMul2, 0), toMul2)
-    mul(t3.valid, t3.bits, stages.shift(req.contrib(c), toMul3, 0), toMul3)
+    val t3 = mul(t2.valid, t2.bits, stages.delay(req.power(c), toMul2, 0), toMul2)
+    mul(t3.valid, t3.bits, stages.delay(req.contrib(c), toMul3, 0), toMul3)
   }
   private val colour = Wire(Vec(Rgb.Channels, UInt(format.width.W)))
   private val flags = Wire(Vec(Rgb.Channels, UInt(3.W)))
@@ -102,7 +102,7 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
   io.out.valid := RegNext(t4.map(_.valid).reduce(_ && _), false.B)
   io.out.bits.colour := stages.reg(colour, latency - 1)
   io.out.bits.flags := stages.reg(flags, latency - 1)
-  io.out.bits.tag := stages.shift(req.tag, latency, 0)
+  io.out.bits.tag := stages.delay(req.tag, latency, 0)
 }
 
 object ConvShaderChain {

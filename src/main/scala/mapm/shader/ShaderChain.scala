@@ -52,7 +52,7 @@ abstract class ColourChain extends Module {
   * P2S skews the significands (kernel/BRDF bit s in cycle s, h in s+3, power s+10, contribution
   * s+14); MUL1 (cycles 1 … N+3), DIV (4 … N+7), QN (10 … N+9), per channel MUL2 (11 … N+13) and
   * MUL3 (15 … N+17), then normalization and packing in cycle N+18. The exponent adder tree and
-  * the special-case classes are formed in cycle 1 and travel beside the significands.
+  * the special-case classes are formed in cycles 1 and 2 and travel beside the significands.
   *
   * With `gated` (the default), every register is clocked only in the cycles in which it takes an
   * operation's state ([[mapm.util.StageGates]]: one clock gate per cycle of the chain, shared by
@@ -85,7 +85,7 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16, v
     * comes out in cycle s + delay. */
   private def serial(x: UInt, delay: Int): Vec[Bool] = {
     val p2s = Module(new P2S(n, gated = gated))
-    p2s.io.in := stages.shift(Cat(1.U(1.W), f.frac(x)), delay, 0)
+    p2s.io.in := stages.delay(Cat(1.U(1.W), f.frac(x)), delay, 0)
     stages.connect(p2s.io.clocks, delay)
     VecInit((1 to n).map(s => p2s.io.out(n - s)))
   }
@@ -106,7 +106,8 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16, v
   qn.io.q := div.io.q
 
   // Exponents and special cases, formed in cycle 1.
-  val exps = Module(new ExponentPath(ew, Rgb.Channels))
+  val exps = Module(new ExponentPath(ew, Rgb.Channels, gated))
+  stages.connect(exps.io.clocks, 0)
   exps.io.kernel := f.exp(req.kernel)
   exps.io.brdf := f.exp(req.brdf)
   exps.io.h := f.exp(req.h)
@@ -115,6 +116,33 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16, v
 
   private val toPack = digits + 17 // from cycle 1 to the packing cycle N+18
   private val sAtPack = stages.shift(qn.io.s, digits + 7, 10) // s appears in cycle 11
+
+  // What rides beside the significands to the packing cycle, per channel: E_0 (from cycle 2), the
+  // result's sign and the special cases (registered once to join it); and the tag, one cycle
+  // further. One delay for them all.
+  private class Side extends Bundle {
+    val e0 = SInt((ew + 3).W)
+    val sign = Bool()
+    val special = new ShaderSpecial
+  }
+  private class Beside extends Bundle {
+    val channels = Vec(Rgb.Channels, new Side)
+    val tag = UInt(tagWidth.W)
+  }
+  private val beside0 = Wire(new Beside)
+  beside0.tag := req.tag
+  for (c <- 0 until Rgb.Channels) {
+    val factors = Seq(req.kernel, req.brdf, req.power(c), req.contrib(c))
+    beside0.channels(c).e0 := DontCare
+    beside0.channels(c).sign := (factors :+ req.h).map(f.sign).reduce(_ ^ _)
+    beside0.channels(c).special.inv := (factors :+ req.h).map(f.isInfOrNaN).reduce(_ || _) || f.isZero(req.h)
+    beside0.channels(c).special.zero := factors.map(f.isZero).reduce(_ || _)
+    beside0.channels(c).special.flushed := factors.map(f.isFlushed).reduce(_ || _)
+  }
+  private val beside = WireInit(stages.reg(beside0, 0))
+  for (c <- 0 until Rgb.Channels) beside.channels(c).e0 := exps.io.e0(c)
+  private val sideAtPack = stages.delay(beside, toPack - 1, 1)
+  private def side(c: Int): Side = sideAtPack.channels(c)
 
   val result = Wire(new ShaderResult(format, tagWidth))
   for (c <- 0 until Rgb.Channels) {
@@ -128,23 +156,17 @@ class ShaderChain(val format: FloatFormat, val g: Int, val tagWidth: Int = 16, v
     mul3.io.x := mul2.io.p
     mul3.io.y := serial(contrib, 14)
 
-    val factors = Seq(req.kernel, req.brdf, power, contrib)
-    val special = Wire(new ShaderSpecial)
-    special.inv := (factors :+ req.h).map(f.isInfOrNaN).reduce(_ || _) || f.isZero(req.h)
-    special.zero := factors.map(f.isZero).reduce(_ || _)
-    special.flushed := factors.map(f.isFlushed).reduce(_ || _)
-
     val pack = Module(new NormalizePack(format, digits, gated))
     stages.connect(pack.io.clocks, 18)
     pack.io.digits := mul3.io.p
-    pack.io.e0 := stages.shift(exps.io.e0(c), toPack, 0)
+    pack.io.e0 := side(c).e0
     pack.io.s := sAtPack
-    pack.io.sign := stages.shift((factors :+ req.h).map(f.sign).reduce(_ ^ _), toPack, 0)
-    pack.io.special := stages.shift(special, toPack, 0)
+    pack.io.sign := side(c).sign
+    pack.io.special := side(c).special
     result.colour(c) := pack.io.bits
     result.flags(c) := pack.io.flags
   }
-  result.tag := stages.shift(req.tag, latency, 0)
+  result.tag := stages.reg(sideAtPack.tag, toPack)
 
   io.out.valid := stages.valid(latency)
   io.out.bits := result

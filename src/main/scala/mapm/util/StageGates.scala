@@ -43,12 +43,24 @@ final class StageGates(valid0: Bool, val gated: Boolean) {
   /** `x` delayed by `n` registers, the first taking it at the end of depth `d`. */
   def shift[T <: Data](x: T, n: Int, d: Int): T = (0 until n).foldLeft(x)((v, k) => reg(v, d + k))
 
+  /** `x`, taken at the end of depth `d`, `n` cycles later: gated, a [[DelayRing]] (each operation
+    * clocks one row instead of `n` stages) when that costs fewer clocked flip-flops per operation
+    * than the shift register, counting each row's clock gate, clocked every cycle, as about two
+    * (the SOA carries an operation about every other cycle); else [[shift]]. */
+  def delay[T <: Data](x: T, n: Int, d: Int): T =
+    if (gated && StageGates.ringPays(x.getWidth, n)) DelayRing(x, valid(d), n) else shift(x, n, d)
+
   /** Drives a unit's stage clocks (when it has them): its local depth k is depth `offset` + k here. */
   def connect(unit: Option[Vec[Clock]], offset: Int): Unit =
     unit.foreach(c => c.zipWithIndex.foreach { case (port, k) => port := clock(offset + k) })
 }
 
 object StageGates {
+  /** Whether a [[DelayRing]] of `depth` rows of `width` bits clocks fewer flip-flops per operation
+    * than a `depth`-stage shift register: width + 2 depth (each row's gate latch, clocked every
+    * cycle, at about one operation per two cycles) against width * depth. */
+  def ringPays(width: Int, depth: Int): Boolean = depth >= 2 && width + 2 * depth < width * depth
+
   /** A register that keeps the exact type and width of its input. */
   private[util] def register[T <: Data](x: T): T = {
     val r = Reg(chiselTypeOf(x))
