@@ -66,6 +66,8 @@ final case class UnitCost(unit: String, top: String, format: String, g: Option[I
     for (u <- ungatedPjPerCycle; n <- activity.value.get("clockGates"); d <- activity.value.get("gateDutyMean"))
       sb ++= f"clock gates: ${n.num}%.0f, enabled ${d.num * 100}%.1f %% of the cycles on average; with every gate's clock running " +
         f"$u%.1f pJ per cycle\n"
+    for (f <- activity.value.get("flopClocksPerCycle"); r <- activity.value.get("validRate"); n <- activity.value.get("flops"))
+      sb ++= f"flip-flops: ${n.num}%.0f, clocked ${f.num}%.0f a cycle, ${f.num / r.num}%.0f per operation\n"
     sb ++= f"gate-level check: ${check("operations").num}%.0f operations, ${check("mismatches").num}%.0f mismatches; " +
       f"mean net activity ${activity("meanActivity").num}%.3f toggles/cycle\n"
     sb ++= "run time (s): " + Seq("emit", "synthesis", "gateLevel", "sta", "total").flatMap(k =>

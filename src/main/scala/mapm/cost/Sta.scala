@@ -121,7 +121,7 @@ object Sta {
           |foreach period {${periods.mkString(" ")}} {
           |  mapm_clock $$period
           |  puts "MAPM_CLOCK $$period [mapm_slack]"
-          |  report_checks -path_delay max -digits 4 -format full
+          |  report_checks -path_delay max -sort_by_slack -digits 4 -format full
           |  report_power -digits 6
           |  puts "MAPM_END"
           |}

@@ -112,6 +112,20 @@ object GateLevel {
 
     /** Each gate's enabled fraction of the counted cycles, in [[ClockGates.Network.gates]] order. */
     def gateDuties: IndexedSeq[Double] = gateDuty
+
+    /** The flip-flops of the netlist. */
+    def flops: Int = nl.libraryCells(lib).count(_.ff.isDefined)
+
+    /** Flip-flops clocked in an average cycle: those on the clock port every cycle, those behind a
+      * gate at its duty. */
+    def flopClocksPerCycle: Double = {
+      val cells = nl.libraryCells(lib)
+      val gateAt = network.gates.map(_.held).zipWithIndex.toMap
+      nl.cells.indices.filter(cells(_).ff.isDefined).map { i =>
+        val clk = cells(i).ff.get.clockedOn.vars.headOption.flatMap(nl.cells(i).pins.get).flatMap(network.clockOf.get)
+        clk.flatMap(gateAt.get).map(gateDuty).getOrElse(1.0)
+      }.sum
+    }
   }
 
   /** One observed result: the cycle and the values of the unit's `outPorts`. */
