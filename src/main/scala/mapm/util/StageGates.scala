@@ -45,10 +45,9 @@ final class StageGates(valid0: Bool, val gated: Boolean) {
 
   /** `x`, taken at the end of depth `d`, `n` cycles later: gated, a [[DelayRing]] (each operation
     * clocks one row instead of `n` stages) when that costs fewer clocked flip-flops per operation
-    * than the shift register, counting each row's clock gate, clocked every cycle, as about two
-    * (the SOA carries an operation about every other cycle); else [[shift]]. */
+    * than the shift register ([[StageGates.ringPays]]); else [[shift]]. */
   def delay[T <: Data](x: T, n: Int, d: Int): T =
-    if (gated && StageGates.ringPays(x.getWidth, n)) DelayRing(x, valid(d), n) else shift(x, n, d)
+    if (gated && StageGates.ringPays(x.getWidth, n)) DelayRing(x, valid(d), valid(d + n - 1), n) else shift(x, n, d)
 
   /** Drives a unit's stage clocks (when it has them): its local depth k is depth `offset` + k here. */
   def connect(unit: Option[Vec[Clock]], offset: Int): Unit =
@@ -56,10 +55,11 @@ final class StageGates(valid0: Bool, val gated: Boolean) {
 }
 
 object StageGates {
-  /** Whether a [[DelayRing]] of `depth` rows of `width` bits clocks fewer flip-flops per operation
-    * than a `depth`-stage shift register: width + 2 depth (each row's gate latch, clocked every
-    * cycle, at about one operation per two cycles) against width * depth. */
-  def ringPays(width: Int, depth: Int): Boolean = depth >= 2 && width + 2 * depth < width * depth
+  /** Whether a [[DelayRing]] of `depth` cycles for `width` bits clocks fewer flip-flops per
+    * operation than a `depth`-stage shift register: 2 width (a row and the output register) +
+    * 2 depth (each gate's latch, clocked every cycle, at about one operation per two cycles)
+    * against width x depth. */
+  def ringPays(width: Int, depth: Int): Boolean = depth >= 3 && 2 * width + 2 * depth < width * depth
 
   /** A register that keeps the exact type and width of its input. */
   private[util] def register[T <: Data](x: T): T = {
