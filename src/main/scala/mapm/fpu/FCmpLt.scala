@@ -10,7 +10,8 @@ import mapm.numerics.FloatFormat
   * patterns with exponent field 0, are all equal to zero; infinities order as usual.
   *
   * One step (sign-magnitude compare) ended by a register when `stages` is 1. Latency: `stages`
-  * cycles, 1 by default, 0 without the register. Throughput: one comparison per cycle.
+  * cycles, 1 by default, 0 without the register. Throughput: one comparison per cycle. With
+  * `gated` the register runs on `clocks(0)`, which the pipeline around gates ([[StepPipe]]).
   */
 class FCmpLt(val fmt: FloatFormat, val stages: Int = 1, val gated: Boolean = false) extends Module with PlannedPipeline {
   def weights: Seq[Double] = FCmpLt.weights

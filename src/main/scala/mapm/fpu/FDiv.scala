@@ -28,6 +28,9 @@ import mapm.numerics.FloatFormat
   *  - rounding: the block increments, then the carry select and the choice of overflow, flush or
   *    the packed result.
   *
+  * With `gated` the data registers of register stage k run on `clocks(k)`, which the pipeline
+  * around the unit gates ([[StepPipe]], [[mapm.util.StageGates]]).
+  *
   * Latency: `stages` cycles (the output is registered when stages >= 1), default
   * [[FDiv.defaultStages]]. Throughput: one operation per cycle; `out.valid` is `in.valid` delayed
   * by the latency.
