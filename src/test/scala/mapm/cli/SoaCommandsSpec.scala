@@ -21,7 +21,7 @@ class SoaCommandsSpec extends AnyFunSuite with SharedFiles {
     val (code, text) = run(EmitSoaCommand, "--format", "5,10", "--g", "2", "--out", dir.toString)
     assert(code == 0)
     val sv = new String(Files.readAllBytes(dir.resolve("SOA_e5m10_g2.sv")), "UTF-8")
-    assert(sv.contains("module SOA_e5m10_g2(") && sv.contains("module ShaderChain_e5m10_g2(") && sv.contains("module CondCheck_e5m10_t1_a9m8c1("))
+    assert(sv.contains("module SOA_e5m10_g2(") && sv.contains("module ShaderChain_e5m10_g2(") && sv.contains("module CondCheck_e5m10_t1_a9m8c1_sg("))
     assert(text.linesIterator.exists(l => l.contains("whole chain") && l.contains(" 31 ")), text)
     assert(text.linesIterator.exists(l => l.contains("cond check") && l.contains(" 36 ")), text)
     assert(text.linesIterator.exists(l => l.contains("SOA (") && l.contains(" 36 ")), text)

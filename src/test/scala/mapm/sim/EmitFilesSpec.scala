@@ -60,10 +60,17 @@ class EmitFilesSpec extends AnyFunSuite {
     assert(conf.size == mems.size)
   }
 
-  test("the clock gate is the one black box, once per SOA, in a file of its own") {
+  test("the clock gate is the one black box, in a file of its own: each SOA's, and its stage and ring gates inside it") {
     val boxes = manifest("blackBoxes").arr.toSeq
     assert(boxes.map(_("module").str) == Seq("ClockGate"))
-    assert(boxes.head("instances").arr.size == som * soa && boxes.head("description").str.toLowerCase.contains("clock gate"))
+    val instances = boxes.head("instances").arr.map(_.str).toSeq
+    assert(boxes.head("description").str.toLowerCase.contains("clock gate"))
+    // One SOA gate per SOM lane; every other gate is inside an SOA (docs/soa.md, "Stage clock gating").
+    val soaGates = instances.filter(_.endsWith(".soa_clock_g"))
+    assert(soaGates.size == som * soa, soaGates)
+    val lanes = soaGates.map(_.stripSuffix("_clock_g"))
+    assert(instances.filterNot(soaGates.contains).forall(i => lanes.exists(l => i.startsWith(l + "."))))
+    assert(instances.size > som * soa * mapm.shader.SOA.latency(FloatFormat(5, 4), 3), s"${instances.size} gates")
     assert(read(s"${top}_blackboxes.sv").contains("always_latch") && !read(s"$top.sv").contains("always_latch"))
   }
 
