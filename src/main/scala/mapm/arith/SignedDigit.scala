@@ -80,9 +80,5 @@ object OnTheFly {
 /** A register that keeps the exact type and width of its input (`RegNext` leaves widths to
   * inference, but the pipelines read the widths of their registered state while elaborating). */
 object StageReg {
-  def apply[T <: Data](next: T): T = {
-    val r = Reg(chiselTypeOf(next))
-    r := next
-    r
-  }
+  def apply[T <: Data](next: T): T = mapm.util.StageGates.register(next)
 }

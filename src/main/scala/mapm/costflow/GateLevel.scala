@@ -70,7 +70,6 @@ object GateLevel {
       for (p <- nl.ports if p.direction == Liberty.Direction.Input && p.name != "clock"; (net, i) <- p.nets.zipWithIndex)
         yield p.bitNames(i) -> act(net)
     private def outputsOf(sequential: Boolean): Seq[Int] = {
-      val cells = nl.libraryCells(lib)
       nl.cells.indices.filter(i => cells(i).isSequential == sequential).flatMap { i =>
         cells(i).outputs.flatMap(o => nl.cells(i).pins.get(o.name)).filter(_ >= 0)
       }.distinct
@@ -84,21 +83,27 @@ object GateLevel {
       * flip-flops its clock drives and the cells of its gated clock, at the gate's measured duty;
       * the gates' latches at duty 1. */
     def gatedLevels: Seq[Sta.GatedLevel] = {
-      val cells = nl.libraryCells(lib)
-      val gateAt = network.gates.map(_.held).zipWithIndex.toMap
-      val level = nl.cells.indices.flatMap { i =>
-        val c = nl.cells(i)
-        val net =
-          if (cells(i).ff.isDefined) cells(i).ff.get.clockedOn.vars.headOption.flatMap(c.pins.get).flatMap(network.clockOf.get)
-          else if (network.cells(i) && cells(i).latch.isEmpty) cells(i).outputs.flatMap(o => c.pins.get(o.name)).headOption.flatMap(network.levelOf.get)
-          else None
-        net.flatMap(gateAt.get).map(_ -> c.name)
-      }.groupMap(_._1)(_._2)
+      val level = nl.cells.indices.flatMap(i => gateOf(i).map(_ -> nl.cells(i).name)).groupMap(_._1)(_._2)
       val latches = nl.cells.indices.filter(i => network.cells(i) && cells(i).latch.isDefined).map(nl.cells(_).name)
       // The cells that drive a gated clock: their switching is the clock distribution's.
       val clockDrivers = nl.cells.indices.filter(i => network.cells(i) && cells(i).latch.isEmpty).map(nl.cells(_).name).toSet
       level.toSeq.sortBy(_._1).map { case (k, cs) => Sta.GatedLevel(cs, gateDuty(k), cs.filter(clockDrivers).toSet) } ++
         (if (latches.isEmpty) Nil else Seq(Sta.GatedLevel(latches, 1.0)))
+    }
+
+    private lazy val cells = nl.libraryCells(lib)
+    /** The gate (its index in the network) whose clock each cell's power follows: a flip-flop's
+      * clock's gate, a clock-network cell's level's gate; None on the clock port or outside. */
+    private lazy val gateOf: IndexedSeq[Option[Int]] = {
+      val gateAt = network.gates.map(_.held).zipWithIndex.toMap
+      nl.cells.indices.map { i =>
+        val c = nl.cells(i)
+        val net =
+          if (cells(i).ff.isDefined) cells(i).ff.get.clockedOn.vars.headOption.flatMap(c.pins.get).flatMap(network.clockOf.get)
+          else if (network.cells(i) && cells(i).latch.isEmpty) cells(i).outputs.flatMap(o => c.pins.get(o.name)).headOption.flatMap(network.levelOf.get)
+          else None
+        net.flatMap(gateAt.get)
+      }
     }
 
     /** The pins that stop every gate: the outputs of their latches (`inst/PIN`). */
@@ -114,18 +119,12 @@ object GateLevel {
     def gateDuties: IndexedSeq[Double] = gateDuty
 
     /** The flip-flops of the netlist. */
-    def flops: Int = nl.libraryCells(lib).count(_.ff.isDefined)
+    def flops: Int = cells.count(_.ff.isDefined)
 
     /** Flip-flops clocked in an average cycle: those on the clock port every cycle, those behind a
       * gate at its duty. */
-    def flopClocksPerCycle: Double = {
-      val cells = nl.libraryCells(lib)
-      val gateAt = network.gates.map(_.held).zipWithIndex.toMap
-      nl.cells.indices.filter(cells(_).ff.isDefined).map { i =>
-        val clk = cells(i).ff.get.clockedOn.vars.headOption.flatMap(nl.cells(i).pins.get).flatMap(network.clockOf.get)
-        clk.flatMap(gateAt.get).map(gateDuty).getOrElse(1.0)
-      }.sum
-    }
+    def flopClocksPerCycle: Double =
+      nl.cells.indices.filter(cells(_).ff.isDefined).map(i => gateOf(i).map(gateDuty).getOrElse(1.0)).sum
   }
 
   /** One observed result: the cycle and the values of the unit's `outPorts`. */

@@ -89,7 +89,7 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth, va
   private def delay[T <: Data](x: Valid[T], cycles: Int, at: Int): Valid[T] =
     if (gated) {
       val r = Wire(Valid(chiselTypeOf(x.bits)))
-      r.valid := ShiftRegister(x.valid, cycles, false.B, true.B)
+      r.valid := stages.valid(at + cycles) // x.valid is depth at's: the chain StageGates keeps
       r.bits := stages.delay(x.bits, cycles, at)
       r
     } else (0 until cycles).foldLeft(x) { (d, _) =>

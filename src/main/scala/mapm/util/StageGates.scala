@@ -61,8 +61,8 @@ object StageGates {
     * against width x depth. */
   def ringPays(width: Int, depth: Int): Boolean = depth >= 3 && 2 * width + 2 * depth < width * depth
 
-  /** A register that keeps the exact type and width of its input. */
-  private[util] def register[T <: Data](x: T): T = {
+  /** A register that keeps the exact type and width of its input (`mapm.arith.StageReg` is this). */
+  def register[T <: Data](x: T): T = {
     val r = Reg(chiselTypeOf(x))
     r := x
     r
