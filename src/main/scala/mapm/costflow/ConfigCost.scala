@@ -29,7 +29,8 @@ import mapm.MapmError
   * from one part into another; fmax is the lower of the whole design's and the parts' (they agree
   * unless a part's own analysis is the stricter), and `crossPartTimed` says whether the whole run
   * fitted the machine. Power uses one global activity, the mean net activity the SOA showed in
-  * its gate-level simulation.
+  * its gate-level simulation, except for the SOA itself (kept whole): its power and energy per
+  * operation are its own gate-level run's, clock gates at their measured duty.
   */
 object ConfigCost {
   /** SRAM bit-cell area model for the black-boxed arrays: a 6T cell of Intel's 180 nm logic
@@ -64,27 +65,29 @@ object ConfigCost {
     * blocks (`core`'s children), their parts (TSM, SOM, Query fetch, L2 caches, Data bus,
     * arbiters) and every cache; when `top` wraps the MAPM (the coprocessor), also the wrapper's
     * own modules and their parts (stream reader, frame accumulator, its combining network and
-    * FIFOs, ...). Memory arrays are left out: they are black boxes. */
-  private[costflow] def keptModules(hier: Hierarchy, top: String, core: String): Seq[String] = {
+    * FIFOs, ...), and the `units` found in the design (the SOA, whose power comes from its own
+    * gate-level run). Memory arrays are left out: they are black boxes. */
+  private[costflow] def keptModules(hier: Hierarchy, top: String, core: String, units: Seq[String] = Nil): Seq[String] = {
     def below(ms: Seq[String]): Seq[String] =
       ms.flatMap(m => hier.children.getOrElse(m, Nil)).distinct.filterNot(hier.memories.contains)
     MapmError.check(top == core || below(Seq(top)).contains(core), s"cost: $top does not instantiate the MAPM $core")
     val blocks = below(Seq(core))
     val wrapper = if (top == core) Nil else { val own = below(Seq(top)); own ++ below(own.filterNot(_ == core)) }
     val caches = hier.children.keys.filter(_.startsWith("ROCache")).toSeq.sorted // kept too: their logic counts as caches
-    (wrapper ++ blocks ++ below(blocks) ++ caches).distinct
+    val kept = (wrapper ++ blocks ++ below(blocks) ++ caches).distinct
+    kept ++ units.filter(hier.children.contains).filterNot(kept.contains)
   }
 
   /** Emits `p` for synthesis and synthesizes it once: the blocks, their parts and every cache
     * kept as modules, the SRAM arrays black boxes. */
-  private def synthesize(flow: CostFlow, p: MapmParams, dir: Path, log: String => Unit): Synthesized = {
+  private def synthesize(flow: CostFlow, p: MapmParams, units: Seq[String], dir: Path, log: String => Unit): Synthesized = {
     val top = mapm.sim.MapmRtl.topName(p)
     log(s"emitting $top for synthesis ...")
     val ((sv, tags), registered) = Boundary.collect(CostBlock.collect(
       Emit.toFile(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true)))
     val hier = Hierarchy.parse(new String(Files.readAllBytes(sv), StandardCharsets.UTF_8))
     val mems = hier.memories.keys.toSeq.sorted
-    val kept = keptModules(hier, top, s"Mapm_${p.name}")
+    val kept = keptModules(hier, top, s"Mapm_${p.name}", units)
     log(s"synthesizing $top: ${kept.size} parts and blocks kept whole, ${mems.size} SRAM arrays as black boxes ...")
     val delayPs = math.round(1000.0 / flow.clocksGHz.max).toInt
     val (syn, synSecs) = SynthesisCache.run(Seq(sv), top, flow.libPath, delayPs, Seq("buffer"), dir.resolve("synth"),
@@ -168,7 +171,7 @@ object ConfigCost {
   /** Method (b)'s figures from the synthesized design `d` and its `analyses`: fmax, logic area,
     * power at each clock, each by block, and the SRAM arrays' bits and modelled area. */
   private def methodB(d: Synthesized, analyses: Seq[(Analysis, Sta.Report)], whole: Either[String, Sta.Whole], p: MapmParams,
-                      flow: CostFlow, meanActivity: Double, frame: Option[Frame]): ujson.Obj = {
+                      flow: CostFlow, meanActivity: Double, soa: UnitCost, frame: Option[Frame]): ujson.Obj = {
     val (label, clocks) = (p.counts.label, flow.clocksGHz)
     import d.{own, paths, mems, hier, block}
     val partsFmax = analyses.map(_._1.fmaxGHz).min
@@ -179,8 +182,16 @@ object ConfigCost {
     val seqBy = paths.groupBy(block).map { case (b, ps) => b -> ps.map(c => own.get(c.last).map(_.seqAreaUm2).getOrElse(0.0)).sum }
     val sramBy = paths.filter(c => mems.contains(c.last)).groupBy(block).map { case (b, ps) => b -> ps.map(c => hier.memoryBits(c.last)).sum }
     val rootBlock = analyses.map { case (a, _) => a.root -> block(paths.find(_.last == a.root).getOrElse(Seq(d.top))) }.toMap
+    // The SOA, kept whole, takes its power from its own gate-level run (its nets' activity, its
+    // stage gates at their duty; the unit flow's figures at the unit's valid rate) instead of the
+    // global activity, at which OpenSTA would clock every gated register in every cycle.
+    val soaAnalysis = analyses.find { case (a, _) => a.root == soa.top && !a.shell }
+    def fromUnit(a: Analysis): Boolean = soaAnalysis.exists(_._1 == a)
     def powerAt(i: Int): (Double, Double, Map[String, Double]) = {
-      val per = analyses.map { case (a, rep) => (rootBlock(a.root), rep.clocks(i).dynamicMw * a.instances, rep.clocks(i).leakageMw * a.instances) }
+      val per = analyses.map { case (a, rep) =>
+        val (dyn, leak) = if (fromUnit(a)) (soa.dynamicMwAt(clocks(i)), soa.clocks.head.leakageMw) else (rep.clocks(i).dynamicMw, rep.clocks(i).leakageMw)
+        (rootBlock(a.root), dyn * a.instances, leak * a.instances)
+      }
       (per.map(_._2).sum, per.map(_._3).sum, per.groupBy(_._1).map { case (b, xs) => b -> xs.map(_._2).sum })
     }
     val sramBits = sramBy.values.sum
@@ -193,17 +204,30 @@ object ConfigCost {
       MapmError.check(st.soIssued > 0, s"cost: the frame ${f.path} issued no shader operations")
       val (dyn, leak, _) = powerAt(0)
       val seconds = st.cycles / (fmaxB * 1e9)
-      val logicNj = dyn / clocks.head * st.cycles / 1000.0 + leak * 1e-3 * seconds * 1e9
+      val n = st.soIssued.toDouble
+      // The SOAs' share: their energy per operation times the frame's operations (each SO is one
+      // SOA operation), so that it follows the frame's own rate rather than the unit run's.
+      val soaNj = soaAnalysis.flatMap(_ => soa.energyPerOpNj).map(_ * n)
+      val soaCycleNj = soaAnalysis.map { case (a, _) => soa.dynamicMwAt(clocks.head) * a.instances / clocks.head * st.cycles / 1000.0 }
+      val logicNj = (dyn / clocks.head * st.cycles / 1000.0) - soaCycleNj.filter(_ => soaNj.isDefined).getOrElse(0.0) + soaNj.getOrElse(0.0) +
+        leak * 1e-3 * seconds * 1e9
       val arrays = SramEnergy.arrays(p, st)
       val sramNj = arrays.map(_.dynamicNj).sum + sramLeakMw * 1e-3 * seconds * 1e9
-      val n = st.soIssued.toDouble
+      val soaJson = soaAnalysis.fold[ujson.Value](ujson.Null) { case (a, rep) =>
+        ujson.Obj("module" -> a.root, "instances" -> a.instances.toDouble,
+          "nJPerSo" -> soaNj.map(e => ujson.Num(e / n)).getOrElse(ujson.Null),
+          "unitValidRate" -> soa.activity.value.get("validRate").getOrElse(ujson.Null),
+          "frameValidRate" -> n / (st.cycles.toDouble * a.instances),
+          "globalActivityNJPerSo" -> rep.clocks.head.dynamicMw * a.instances / clocks.head * st.cycles / 1000.0 / n)
+      }
       ujson.Obj("frame" -> f.path, "clockGHz" -> fmaxB, "cycles" -> st.cycles.toDouble, "shaderOperations" -> n,
-        "logic" -> logicNj / n, "sram" -> sramNj / n, "total" -> (logicNj + sramNj) / n,
+        "logic" -> logicNj / n, "sram" -> sramNj / n, "total" -> (logicNj + sramNj) / n, "soa" -> soaJson,
         "sramPowerMw" -> sramNj / seconds * 1e-6,
         "sramByArray" -> ujson.Obj.from(arrays.map(a => a.name -> ujson.Obj("instances" -> a.instances, "depth" -> a.depth.toDouble,
           "width" -> a.width, "reads" -> a.reads.toDouble, "writes" -> a.writes.toDouble, "readPj" -> a.readPj, "nJPerSo" -> a.dynamicNj / n))),
-        "note" -> ("logic: method (b)'s dynamic power at one global activity over its clock, times the frame's cycles, and leakage over " +
-          "its time at fmax; sram: every array access the frame's counters imply and the arrays' leakage"))
+        "note" -> ("logic: the SOAs' energy per operation from their own gate-level run (stage gates at their duty) times the frame's " +
+          "operations; every other part's dynamic power at one global activity over its clock, times the frame's cycles; leakage over " +
+          "the frame's time at fmax; sram: every array access the frame's counters imply and the arrays' leakage"))
     }
     ujson.Obj(
       "description" -> "every module synthesized once, parts kept whole, own cells x instances; SRAM arrays black-boxed",
@@ -217,7 +241,8 @@ object ConfigCost {
             "through" -> ujson.Arr.from(p.through.map(ujson.Str(_)))))))),
       "logicAreaMm2" -> areaBy.values.sum / 1e6, "sequentialAreaMm2" -> seqBy.values.sum / 1e6,
       "areaByBlockMm2" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(areaBy.getOrElse(b, 0.0) / 1e6))),
-      "activity" -> s"global $meanActivity toggles/cycle (mean net activity of the SOA's gate-level run), duty 0.5",
+      "activity" -> (s"global $meanActivity toggles/cycle (mean net activity of the SOA's gate-level run), duty 0.5" +
+        soaAnalysis.fold("")(_ => s"; ${soa.top} at its own gate-level run's figures (its clock gates at their duty)")),
       "clocks" -> ujson.Arr.from(clocks.indices.map { i =>
         val (dyn, leak, by) = powerAt(i)
         ujson.Obj("clockGHz" -> clocks(i), "slackMet" -> (clocks(i) <= fmaxB + 1e-9), "dynamicPowerMw" -> dyn,
@@ -272,7 +297,7 @@ object ConfigCost {
           log: String => Unit, frame: Option[Frame] = None): ujson.Obj = {
     val (nSoa, nTsa) = (p.counts.som * p.counts.soaPerSom, p.counts.tsm)
     val fmaxA = math.min(soa.fmaxGHz, tsa.fmaxGHz)
-    val d = synthesize(flow, p, dir, log)
+    val d = synthesize(flow, p, Seq(soa.top), dir, log)
     val t0 = System.nanoTime()
     val analyses = analyse(flow, d, meanActivity, dir, log)
     val whole = timeWhole(flow, d, dir, log)
@@ -282,7 +307,7 @@ object ConfigCost {
       "library" -> flow.libPath.getFileName.toString,
       "methodA" -> ujson.Obj("description" -> s"$nSoa SOAs x ${soa.top} + $nTsa TSAs x ${tsa.top} (dissertation Table 4.9)",
         "fmaxGHz" -> fmaxA, "atFmax" -> methodA(nSoa, nTsa, soa, tsa)(fmaxA), "clocks" -> ujson.Arr.from(flow.clocksGHz.map(methodA(nSoa, nTsa, soa, tsa)))),
-      "methodB" -> methodB(d, analyses, whole, p, flow, meanActivity, frame),
+      "methodB" -> methodB(d, analyses, whole, p, flow, meanActivity, soa, frame),
       "seconds" -> ujson.Obj("synthesis" -> d.seconds, "sta" -> staSecs))
   }
 
@@ -309,7 +334,9 @@ object ConfigCost {
     sb ++= "    SRAM bits by block: " + s("bitsByBlock").obj.map { case (k, v) => f"$k ${v.num}%.0f" }.mkString(", ") + "\n"
     b.obj.get("energyPerSoNj").filter(_ != ujson.Null) match {
       case Some(e) => sb ++= f"    energy per shader operation at ${e("clockGHz").num}%.3f GHz over ${e("frame").str}: logic ${e("logic").num}%.2f nJ, " +
-        f"SRAM ${e("sram").num}%.2f nJ, total ${e("total").num}%.2f nJ (SRAM ${e("sramPowerMw").num}%.0f mW)\n"
+        f"SRAM ${e("sram").num}%.2f nJ, total ${e("total").num}%.2f nJ (SRAM ${e("sramPowerMw").num}%.0f mW)\n" +
+        e.obj.get("soa").filter(_ != ujson.Null).fold("")(s => f"      of the logic, the SOAs ${s("nJPerSo").num}%.2f nJ at their own activity " +
+          f"(${s("globalActivityNJPerSo").num}%.2f at the global one; valid rate ${s("frameValidRate").num}%.3f in the frame)\n")
       case None => sb ++= "    energy per shader operation: give --frame-stats (a render's stats.json of this MAPM)\n"
     }
     val bounds = b("boundaries")("modules").arr

@@ -22,15 +22,24 @@ import mapm.numerics.FloatFormat
   * With `gated` the data registers of register stage k run on `clocks(k)`, which the pipeline
   * around the unit gates ([[StepPipe]], [[mapm.util.StageGates]]).
   *
+  * With `square` it is a squarer: the caller gives the same operand on both ports (an assertion
+  * checks it in simulation), the special cases, sign and exponent come from both as before, and
+  * the significand's partial products from `a` alone, folded about the diagonal
+  * ([[Dadda.squareProducts]]: 300 bits instead of 576 at fp32, 5 Dadda levels instead of 7), so
+  * that the registers inside the tree hold about half the bits. The product is the same
+  * correctly rounded a * a. It needs as many steps as `stages` ([[FMul.squareFits]]).
+  *
   * Latency: `stages` cycles (the output is registered when stages >= 1), default
   * [[FMul.defaultStages]]. Throughput: one operation per cycle; `out.valid` is `in.valid` delayed
   * by the latency.
   */
 @instantiable
-class FMul(val fmt: FloatFormat, val stages: Int, val gated: Boolean = false) extends Module with PlannedPipeline {
+class FMul(val fmt: FloatFormat, val stages: Int, val gated: Boolean = false, val square: Boolean = false) extends Module with PlannedPipeline {
   def this(fmt: FloatFormat) = this(fmt, FMul.defaultStages(fmt))
-  def weights: Seq[Double] = FMul.weights(fmt)
-  override def desiredName: String = s"FMul_${fmt.name}_s$stages${StageClocks.suffix(gated)}"
+  require(!square || FMul.squareFits(fmt, stages),
+    s"FMul: a squarer of ${fmt.name} has ${FMul.weights(fmt, square = true).length} steps, fewer than $stages stages")
+  def weights: Seq[Double] = FMul.weights(fmt, square)
+  override def desiredName: String = s"FMul_${fmt.name}_s$stages${if (square) "_sq" else ""}${StageClocks.suffix(gated)}"
 
   @public val io = IO(new Bundle {
     val in = Flipped(Valid(new FOperands(fmt)))
@@ -53,6 +62,7 @@ class FMul(val fmt: FloatFormat, val stages: Int, val gated: Boolean = false) ex
   // Step 0: specials, exponent sum, partial products and the first Dadda level.
   val a = FUnpack(fmt, io.in.bits.a)
   val b = FUnpack(fmt, io.in.bits.b)
+  if (square) assert(!io.in.valid || io.in.bits.a === io.in.bits.b, "FMul squarer: the operands differ")
   private val side0 = Wire(new Side)
   val sign = a.sign ^ b.sign
   val invalid = a.isNaN || b.isNaN || (a.isInf && b.isZero) || (b.isInf && a.isZero)
@@ -63,8 +73,9 @@ class FMul(val fmt: FloatFormat, val stages: Int, val gated: Boolean = false) ex
   side0.exp := (a.exp +& b.exp).zext - fmt.bias.S
 
   private var side = side0
-  private val targets = Dadda.targets(n)
-  private var cols = targets.headOption.fold(Dadda.partialProducts(a.sig, b.sig))(Dadda.level(Dadda.partialProducts(a.sig, b.sig), _))
+  private val targets = FMul.tree(n, square)
+  private val products = if (square) Dadda.squareProducts(a.sig) else Dadda.partialProducts(a.sig, b.sig)
+  private var cols = targets.headOption.fold(products)(Dadda.level(products, _))
   private def crossTree(): Unit = { cols = cols.map(_.map(p(_))); side = p(side); p.next() }
   crossTree()
   for (t <- targets.drop(1)) { cols = Dadda.level(cols, t); crossTree() }
@@ -90,13 +101,19 @@ class FMul(val fmt: FloatFormat, val stages: Int, val gated: Boolean = false) ex
 
 object FMul {
   /** Estimated delay of each step (docs/fpu.md). */
-  def weights(fmt: FloatFormat): Seq[Double] = {
+  def weights(fmt: FloatFormat, square: Boolean = false): Seq[Double] = {
     val n = fmt.manWidth + 1
-    val levels = Dadda.targets(n).length
+    val levels = tree(n, square).length
     val adder = PrefixAdd.spans(2 * n, carryOut = false).length
     Seq(1.0 + (if (levels > 0) 1.0 else 0.0)) ++ Seq.fill(levels - 1 max 0)(1.0) ++
       Seq.tabulate(adder)(i => if (i == 0) 1.0 else 0.5) ++ Seq(1.5, 1.0, 1.5)
   }
+
+  /** The Dadda levels' target heights for `n`-bit significands (a squarer's tree is shorter). */
+  private def tree(n: Int, square: Boolean): Seq[Int] = Dadda.targets(if (square) Dadda.squareHeight(n) else n)
+
+  /** Whether a squarer of `fmt` has at least `stages` steps to place its registers in. */
+  def squareFits(fmt: FloatFormat, stages: Int): Boolean = weights(fmt, square = true).length >= stages
 
   /** The default latency: [[FpuDepth.of]] at its default logic per stage. */
   def defaultStages(fmt: FloatFormat): Int = FpuDepth.of(fmt).mul

@@ -14,8 +14,25 @@ private[fpu] object Dadda {
     Seq.tabulate(wa + wb)(k => for (j <- 0 until wa if k - j >= 0 && k - j < wb) yield a(j) && b(k - j))
   }
 
+  /** The partial products of a * a, folded: a(i) & a(j) and a(j) & a(i) (i < j) are one bit a
+    * column higher, and a(i) & a(i) is a(i). Column k holds a(k/2) (k even) and a(i) & a(j) for
+    * i < j, i + j = k - 1: about half the bits of [[partialProducts]], the tallest column
+    * [[squareHeight]]. */
+  def squareProducts(a: UInt): Columns = {
+    val w = a.getWidth
+    Seq.tabulate(2 * w) { k =>
+      (if (k % 2 == 0 && k / 2 < w) Seq(a(k / 2)) else Nil) ++
+        (for (i <- 0 until w; j = k - 1 - i if i < j && j < w) yield a(i) && a(j))
+    }
+  }
+
+  /** The tallest column of [[squareProducts]] for a `w`-bit operand. */
+  def squareHeight(w: Int): Int =
+    (0 until 2 * w).map(k => (if (k % 2 == 0 && k / 2 < w) 1 else 0) + (0 until w).count(i => i < k - 1 - i && k - 1 - i < w)).max
+
   /** The column heights each level reduces to, for operands of `n` and `n` bits: Dadda's sequence
-    * 2, 3, 4, 6, 9, 13, 19, 28, ... below n, largest first (empty when n <= 2). */
+    * 2, 3, 4, 6, 9, 13, 19, 28, ... below n, largest first (empty when n <= 2); more generally
+    * those below the tallest column `n`. */
   def targets(n: Int): Seq[Int] =
     Iterator.iterate(2)(d => d * 3 / 2).takeWhile(_ < n).toSeq.reverse
 

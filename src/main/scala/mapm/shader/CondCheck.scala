@@ -31,7 +31,7 @@ class CondOut(tagWidth: Int) extends Bundle {
   * order of [[mapm.numerics.CondModel]], with which it is bit-exact:
   * {{{
   *   dx = qx - px;  dy = qy - py;  dz = qz - pz        3 FAdd (subtract)
-  *   dx*dx, dy*dy, dz*dz, hh = h*h                     4 FMul
+  *   dx*dx, dy*dy, dz*dz, hh = h*h                     4 FMul (squarers)
   *   xy = dx*dx + dy*dy                                FAdd
   *   d2 = xy + dz*dz                                   FAdd
   *   cond = d2 < hh                                    FCmpLt
@@ -66,7 +66,8 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth, va
     * bits always agree and are ANDed. */
   // The adders and multipliers are elaborated once each and instantiated.
   private lazy val addDef = Definition(new FAdd(fmt, depth.add, gated = gated))
-  private lazy val mulDef = Definition(new FMul(fmt, depth.mul, gated))
+  // Every product here is a square: squarers (half the partial products) where the depth allows.
+  private lazy val mulDef = Definition(new FMul(fmt, depth.mul, gated, square = FMul.squareFits(fmt, depth.mul)))
   private def add(a: Valid[UInt], b: Valid[UInt], sub: Boolean, at: Int): Valid[UInt] = {
     val u = Instance(addDef)
     stages.connect(u.io.clocks, at)
@@ -89,7 +90,9 @@ class CondCheck(val fmt: FloatFormat, val tagWidth: Int, val depth: FpuDepth, va
   private def delay[T <: Data](x: Valid[T], cycles: Int, at: Int): Valid[T] =
     if (gated) {
       val r = Wire(Valid(chiselTypeOf(x.bits)))
-      r.valid := stages.valid(at + cycles) // x.valid is depth at's: the chain StageGates keeps
+      // x.valid is depth at's valid bit, which StageGates' chain already carries on.
+      assert(x.valid === stages.valid(at), "cond check: a delayed value's valid bit is not its depth's")
+      r.valid := stages.valid(at + cycles)
       r.bits := stages.delay(x.bits, cycles, at)
       r
     } else (0 until cycles).foldLeft(x) { (d, _) =>

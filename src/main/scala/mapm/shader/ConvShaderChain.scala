@@ -78,7 +78,8 @@ class ConvShaderChain(val format: FloatFormat, val depth: FpuDepth, val tagWidth
     s.flushed := flushedShared || f.isFlushed(req.power(c)) || f.isFlushed(req.contrib(c))
     s
   })
-  private val specialLate = stages.delay(special, latency - 1, 0)
+  // Registered once before its delay: the classes' logic over every operand is a path of its own.
+  private val specialLate = stages.delay(stages.reg(special, 0), latency - 2, 1)
 
   // MUL2 and MUL3 per channel, then the output rule (one registered cycle).
   private val t4 = (0 until Rgb.Channels).map { c =>

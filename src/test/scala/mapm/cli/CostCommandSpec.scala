@@ -203,15 +203,20 @@ class CostCommandSpec extends AnyFunSuite {
     def memBits(m: String): Long = bits.getOrElse(m, 0L) + """(?m)^\s+(\w+)\s+\w+\s*\(""".r.findAllMatchIn(mods(m))
       .map(_.group(1)).filter(mods.contains).map(memBits).sum
     assert(bits.nonEmpty && b("sram")("bits").num == memBits(top).toDouble)
-    // Energy per SO over the frame at method (b)'s fmax: the logic's energy per cycle (dynamic power
-    // over its clock) and leakage over the frame's time; the SRAM arrays' accesses and leakage.
+    // Energy per SO over the frame at method (b)'s fmax: the SOA's energy per operation (its own
+    // gate-level run) times the frame's SOs; the rest's energy per cycle (dynamic power over its
+    // clock) and leakage over the frame's time; the SRAM arrays' accesses and leakage.
     val e = b("energyPerSoNj")
     val st = ujson.read(Files.readAllBytes(frame))
     val (cyc, sos, f) = (st("cycles").num, st("soIssued").num, b("fmaxGHz").num)
     assert(e("cycles").num == cyc && e("shaderOperations").num == sos && e("clockGHz").num == f)
+    assert(b("modules").arr.exists(m => m("module").str == soa("top").str && !m("ownLogicOnly").bool), "the SOA is kept and analysed whole")
+    assert(e("soa")("module").str == soa("top").str && e("soa")("nJPerSo").num == soa("energyPerOpNj").num)
     val c0 = b("clocks")(0)
-    val logicNj = (c0("dynamicPowerMw").num / c0("clockGHz").num * cyc / 1000 + c0("leakagePowerMw").num * cyc / f / 1000) / sos
-    assert(math.abs(e("logic").num - logicNj) < 1e-9 * logicNj, s"logic ${e("logic")} nJ, from the clocks $logicNj")
+    val soaPjPerCycle = soa("clocks")(0)("dynamicPowerMw").num / soa("clocks")(0)("clockGHz").num
+    val logicNj = (c0("dynamicPowerMw").num / c0("clockGHz").num * cyc / 1000 - soaPjPerCycle * cyc / 1000 +
+      soa("energyPerOpNj").num * sos + c0("leakagePowerMw").num * cyc / f / 1000) / sos
+    assert(math.abs(e("logic").num - logicNj) < 1e-9 * logicNj, s"logic ${e("logic")} nJ, from the clocks and the SOA's report $logicNj")
     val sramLeakNj = b("sram")("leakageMw").num * cyc / f / 1000
     val sramDyn = e("sramByArray").obj.values.map(_("nJPerSo").num).sum
     assert(math.abs(e("sram").num - (sramDyn + sramLeakNj / sos)) < 1e-9 * e("sram").num)

@@ -20,7 +20,7 @@ class ConfigCostSpec extends AnyFunSuite {
     "ROCache_l1" -> Seq("mem_8x4"), "ROCache_l2" -> Seq("mem_8x4"))
   private val mems = Map("mem_8x4" -> (4, 8))
 
-  test("a bare MAPM keeps its blocks, their parts and every cache; not the units or the arrays") {
+  test("a bare MAPM keeps its blocks, their parts and every cache; not the units (unless named) or the arrays") {
     val kept = ConfigCost.keptModules(Hierarchy(mapm, mems), "Mapm_x", "Mapm_x")
     assert(kept.toSet == Set("TsBlock", "SoBlock", "Uncore", "Tsm", "TsL2", "Som", "DataBus", "ROCache_l1", "ROCache_l2"))
   }
@@ -32,6 +32,12 @@ class ConfigCostSpec extends AnyFunSuite {
     val bare = ConfigCost.keptModules(Hierarchy(mapm, mems), "Mapm_x", "Mapm_x")
     assert(bare.forall(kept.contains), s"kept $kept")
     assert(kept.toSet -- bare == Set("Mapm_x", "Reader", "Acc", "Combiner", "Fifo"))
+  }
+
+  test("a unit named for its own power (the SOA) is kept too when the design has it; one it lacks is not invented") {
+    val bare = ConfigCost.keptModules(Hierarchy(mapm, mems), "Mapm_x", "Mapm_x")
+    val withSoa = ConfigCost.keptModules(Hierarchy(mapm, mems), "Mapm_x", "Mapm_x", Seq("Soa", "SOA_absent"))
+    assert(withSoa.toSet -- bare == Set("Soa"))
   }
 
   test("a top that does not hold the MAPM is an error naming both") {

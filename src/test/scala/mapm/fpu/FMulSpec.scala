@@ -33,6 +33,35 @@ class FMulSpec extends AnyFunSuite with Sim {
     }
   }
 
+  /** `count` squares a * a, a = op(i), through the squarer FMul(f, stages, square = true) against
+    * SoftFloat.mul(a, a). */
+  private def squares(f: FloatFormat, stages: Int, count: Int, op: Int => Long, seed: Long): StreamCheck.Report =
+    StreamCheck.run(pipe(new FMul(f, stages, square = true))(_.io.in, _.io.out), stages, count,
+      i => Seq(port(op(i)), port(op(i))),
+      i => Seq(port(SoftFloat.mul(f, op(i), op(i)))),
+      i => s"${f.hex(op(i))} squared", gap = 0.2, seed)
+
+  test("squarer: every operand of e2m1 … e5m6 and of fp16 and bf16; fp32 and fp64 seeded") {
+    for (f <- Seq(FloatFormat(2, 1), FloatFormat(3, 2), FloatFormat(4, 3), FloatFormat(5, 6), FloatFormat.fp16, FloatFormat.bf16)) {
+      val r = squares(f, FMul.defaultStages(f), 1 << f.width, _.toLong, seed = 70 + f.width)
+      info(s"$f: ${r.operations} squares in ${r.cycles} cycles")
+    }
+    for ((f, count) <- Seq(FloatFormat.fp32 -> 200000, FloatFormat.fp64 -> 30000)) {
+      val (a, _) = randomPairs(f, count, seed = 80 + f.width)
+      squares(f, FMul.defaultStages(f), count, a(_), seed = f.width)
+    }
+  }
+
+  test("squarer at other depths (0, 1, 2, every step registered), every e4m3 operand; fewer steps than stages is refused") {
+    val f = FloatFormat(4, 3)
+    for (stages <- Seq(0, 1, 2, FMul.weights(f, square = true).length))
+      squares(f, stages, 1 << f.width, _.toLong, seed = 90 + stages)
+    val steps = FMul.weights(FloatFormat.fp32, square = true).length
+    assert(steps < FMul.weights(FloatFormat.fp32).length && FMul.squareFits(FloatFormat.fp32, FMul.defaultStages(FloatFormat.fp32)))
+    val e = intercept[IllegalArgumentException](circt.stage.ChiselStage.emitCHIRRTL(new FMul(FloatFormat.fp32, steps + 1, square = true)))
+    assert(e.getMessage.contains(s"has $steps steps, fewer than ${steps + 1} stages"), e.getMessage)
+  }
+
   test("other depths (0, 1, 2, 3 and every step registered) compute the same, exhaustive at e3m2 and e4m3") {
     for (f <- Seq(FloatFormat(3, 2), FloatFormat(4, 3)); stages <- Seq(0, 1, 2, 3, FMul.weights(f).length))
       stream(f, stages, 1 << (2 * f.width), exhaustivePair(f, _), seed = 6 + stages)
