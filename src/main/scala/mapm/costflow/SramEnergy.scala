@@ -76,7 +76,7 @@ object SramEnergy {
     val t = p.counts.tsm
     val rq = {
       val width = new mapm.tsearch.TsmOp(p).getWidth
-      val depth = (p.queues.registerQueueDepth + 1) / 2
+      val depth = mapm.tsearch.RegisterStack.bankDepth(p.queues.registerQueueDepth)
       Array("Register queue", depth, width, 2 * t, 2 * cycles * t, stats.flatMap(_.tsOps).getOrElse(0L), width)
     }
     cache("tsL1", s.tsL1, t) ++ cache("soq", s.soq, 1) ++ cache("sopL1", s.sopL1, p.counts.som * p.counts.soaPerSom) ++

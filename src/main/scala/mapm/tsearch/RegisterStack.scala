@@ -21,7 +21,7 @@ class RegisterStack[T <: Data](gen: T, val depth: Int) extends Module {
   override def desiredName = s"RegisterStack_d$depth"
   private val cntBits = log2Ceil(depth + 1)
   private val idxBits = log2Ceil(depth)
-  private val bankBits = log2Ceil((depth + 1) / 2)
+  private val bankBits = log2Ceil(RegisterStack.bankDepth(depth))
 
   val io = IO(new Bundle {
     val push = Input(Vec(2, Valid(gen)))
@@ -39,7 +39,7 @@ class RegisterStack[T <: Data](gen: T, val depth: Int) extends Module {
   // entry, which Verilator rebuilds by wide concatenation every cycle, more than half of a 16/16/2
   // simulation's time.) The read is synchronous: each cycle reads the entry that will be on top
   // next cycle, and an entry pushed this cycle, which a bank cannot yet return, is bypassed.
-  private val banks = Seq.fill(2)(SyncReadMem((depth + 1) / 2, gen))
+  private val banks = Seq.fill(2)(SyncReadMem(RegisterStack.bankDepth(depth), gen))
   val count = RegInit(0.U(cntBits.W))
   val peak = RegInit(0.U(cntBits.W))
   val overflow = RegInit(false.B)
@@ -71,4 +71,9 @@ class RegisterStack[T <: Data](gen: T, val depth: Int) extends Module {
   io.count := count
   io.peak := peak
   io.overflow := overflow
+}
+
+object RegisterStack {
+  /** Entries of each of the two banks (even and odd indices) of a stack of `depth` entries. */
+  def bankDepth(depth: Int): Int = (depth + 1) / 2
 }
