@@ -215,7 +215,7 @@ object ConfigCost {
       val sramNj = arrays.map(_.dynamicNj).sum + sramLeakMw * 1e-3 * seconds * 1e9
       val soaJson = soaAnalysis.fold[ujson.Value](ujson.Null) { case (a, rep) =>
         ujson.Obj("module" -> a.root, "instances" -> a.instances.toDouble,
-          "nJPerSo" -> soaNj.map(e => ujson.Num(e / n)).getOrElse(ujson.Null),
+          "nJPerSo" -> soaNj.flatMap(_ => soa.energyPerOpNj).map(ujson.Num(_)).getOrElse(ujson.Null),
           "unitValidRate" -> soa.activity.value.get("validRate").getOrElse(ujson.Null),
           "frameValidRate" -> n / (st.cycles.toDouble * a.instances),
           "globalActivityNJPerSo" -> rep.clocks.head.dynamicMw * a.instances / clocks.head * st.cycles / 1000.0 / n)

@@ -211,7 +211,7 @@ class CostCommandSpec extends AnyFunSuite {
     val (cyc, sos, f) = (st("cycles").num, st("soIssued").num, b("fmaxGHz").num)
     assert(e("cycles").num == cyc && e("shaderOperations").num == sos && e("clockGHz").num == f)
     assert(b("modules").arr.exists(m => m("module").str == soa("top").str && !m("ownLogicOnly").bool), "the SOA is kept and analysed whole")
-    assert(e("soa")("module").str == soa("top").str && e("soa")("nJPerSo").num == soa("energyPerOpNj").num)
+    assert(e("soa")("module").str == soa("top").str && math.abs(e("soa")("nJPerSo").num - soa("energyPerOpNj").num) < 1e-12 * soa("energyPerOpNj").num)
     val c0 = b("clocks")(0)
     val soaPjPerCycle = soa("clocks")(0)("dynamicPowerMw").num / soa("clocks")(0)("clockGHz").num
     val logicNj = (c0("dynamicPowerMw").num / c0("clockGHz").num * cyc / 1000 - soaPjPerCycle * cyc / 1000 +
