@@ -18,17 +18,15 @@ private[fpu] object Dadda {
     * column higher, and a(i) & a(i) is a(i). Column k holds a(k/2) (k even) and a(i) & a(j) for
     * i < j, i + j = k - 1: about half the bits of [[partialProducts]], the tallest column
     * [[squareHeight]]. */
-  def squareProducts(a: UInt): Columns = {
-    val w = a.getWidth
-    Seq.tabulate(2 * w) { k =>
-      (if (k % 2 == 0 && k / 2 < w) Seq(a(k / 2)) else Nil) ++
-        (for (i <- 0 until w; j = k - 1 - i if i < j && j < w) yield a(i) && a(j))
-    }
-  }
+  def squareProducts(a: UInt): Columns =
+    Seq.tabulate(2 * a.getWidth)(k => squareTerms(a.getWidth, k).map { case (i, j) => if (i == j) a(i) else a(i) && a(j) })
 
   /** The tallest column of [[squareProducts]] for a `w`-bit operand. */
-  def squareHeight(w: Int): Int =
-    (0 until 2 * w).map(k => (if (k % 2 == 0 && k / 2 < w) 1 else 0) + (0 until w).count(i => i < k - 1 - i && k - 1 - i < w)).max
+  def squareHeight(w: Int): Int = (0 until 2 * w).map(squareTerms(w, _).size).max
+
+  /** The terms of column k of a `w`-bit square: (k/2, k/2) for k even, and (i, j), i < j, i + j = k - 1. */
+  private def squareTerms(w: Int, k: Int): Seq[(Int, Int)] =
+    (if (k % 2 == 0 && k / 2 < w) Seq((k / 2, k / 2)) else Nil) ++ (for (i <- 0 until w; j = k - 1 - i if i < j && j < w) yield (i, j))
 
   /** The column heights each level reduces to, for operands of `n` and `n` bits: Dadda's sequence
     * 2, 3, 4, 6, 9, 13, 19, 28, ... below n, largest first (empty when n <= 2); more generally
