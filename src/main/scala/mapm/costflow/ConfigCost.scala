@@ -207,15 +207,16 @@ object ConfigCost {
       val n = st.soIssued.toDouble
       // The SOAs' share: their energy per operation times the frame's operations (each SO is one
       // SOA operation), so that it follows the frame's own rate rather than the unit run's.
-      val soaNj = soaAnalysis.flatMap(_ => soa.energyPerOpNj).map(_ * n)
-      val soaCycleNj = soaAnalysis.map { case (a, _) => soa.dynamicMwAt(clocks.head) * a.instances / clocks.head * st.cycles / 1000.0 }
-      val logicNj = (dyn / clocks.head * st.cycles / 1000.0) - soaCycleNj.filter(_ => soaNj.isDefined).getOrElse(0.0) + soaNj.getOrElse(0.0) +
-        leak * 1e-3 * seconds * 1e9
+      val soaPerOp = soaAnalysis.flatMap(_ => soa.energyPerOpNj)
+      // What powerAt charged the SOAs over the frame's cycles, replaced by their per-operation figure.
+      val soaCycleNj = soaAnalysis.filter(_ => soaPerOp.isDefined)
+        .fold(0.0) { case (a, _) => soa.dynamicMwAt(clocks.head) * a.instances / clocks.head * st.cycles / 1000.0 }
+      val logicNj = dyn / clocks.head * st.cycles / 1000.0 - soaCycleNj + soaPerOp.fold(0.0)(_ * n) + leak * 1e-3 * seconds * 1e9
       val arrays = SramEnergy.arrays(p, st)
       val sramNj = arrays.map(_.dynamicNj).sum + sramLeakMw * 1e-3 * seconds * 1e9
       val soaJson = soaAnalysis.fold[ujson.Value](ujson.Null) { case (a, rep) =>
         ujson.Obj("module" -> a.root, "instances" -> a.instances.toDouble,
-          "nJPerSo" -> soaNj.flatMap(_ => soa.energyPerOpNj).map(ujson.Num(_)).getOrElse(ujson.Null),
+          "nJPerSo" -> soaPerOp.map(ujson.Num(_)).getOrElse(ujson.Null),
           "unitValidRate" -> soa.activity.value.get("validRate").getOrElse(ujson.Null),
           "frameValidRate" -> n / (st.cycles.toDouble * a.instances),
           "globalActivityNJPerSo" -> rep.clocks.head.dynamicMw * a.instances / clocks.head * st.cycles / 1000.0 / n)
