@@ -201,26 +201,29 @@ object Sta {
     }
   }
 
-  /** The whole design's timing, every path between its modules included: fmax, the worst path and
-    * the `paths` worst endpoints. */
-  final case class Whole(fmaxGHz: Double, instances: Long, worst: Seq[WholePath], seconds: Double)
-  /** One endpoint's worst path: its start and end points, the period it needs (ns), and the
-    * module instances it runs through in order (`.` for the top's own cells). */
-  final case class WholePath(startPoint: String, endPoint: String, periodNs: Double, through: Seq[String])
+  /** The whole design's timing, every path between its modules included: fmax, the worst paths
+    * and the trial periods of the search that found it. */
+  final case class Whole(fmaxGHz: Double, instances: Long, worst: Seq[WholePath], trials: Seq[(Double, Double)], seconds: Double)
+  /** One endpoint's worst path: its start and end points, its slack at the period found (ns), and
+    * the module instances it runs through in order (`.` for the top's own cells). */
+  final case class WholePath(startPoint: String, endPoint: String, slackNs: Double, through: Seq[String])
 
-  /** Times the hierarchical netlist `netlistFiles` of `top` as one design (timing only, no power),
-    * linked whole so that the paths from one module into another are timed with the rest. The
-    * clocks are ideal, so the worst slack at any period P gives the period the design needs,
-    * P - slack; the script checks that period once more. Each of the `paths` worst endpoints is
-    * reported. The configuration inputs (`io_cfg...`), which hold their value for a whole frame,
-    * start no path. For designs too large for the per-module flow's bisection. A positive
-    * `memoryLimitBytes` caps OpenSTA's address space (`prlimit`); past it the run fails. */
+  /** Times the hierarchical netlist `netlistFiles` of `top` as one design (timing only, no
+    * power), linked whole so that the paths from one module into another are timed with the
+    * rest. For designs too large for the per-module flow's bisection: one OpenSTA session loads
+    * the design once, and [[PeriodSearch]] asks it for the worst slack at a few trial periods
+    * (a clock gate's enable latch takes half a period, so the period is not the first trial's
+    * period minus its slack). The clocks are ideal. Each of the `paths` worst endpoints is
+    * reported at the period found. The configuration inputs (`io_cfg...`), which hold their
+    * value for a whole frame, start no path. A positive `memoryLimitBytes` caps OpenSTA's
+    * address space (`prlimit`); past it the run fails. Each trial is told to `progress`. The
+    * session's commands are kept in `sta-whole.tcl` and its output in `sta-whole.log`. */
   def timeWhole(netlistFiles: Seq[Path], top: String, libFile: Path, workDir: Path, paths: Int = 5,
-                clockPort: String = "clock", memoryLimitBytes: Long = 0): Whole = {
+                clockPort: String = "clock", memoryLimitBytes: Long = 0, progress: String => Unit = _ => ()): Whole = {
     val dir = workDir.toAbsolutePath
     Files.createDirectories(dir)
-    val tcl = dir.resolve("sta-whole.tcl")
-    val script =
+    val (tcl, log) = (dir.resolve("sta-whole.tcl"), dir.resolve("sta-whole.log"))
+    val setup =
       s"""|read_liberty {${libFile.toAbsolutePath}}
           |${netlistFiles.map(n => s"read_verilog {${n.toAbsolutePath}}").mkString("\n")}
           |link_design {$top}
@@ -240,35 +243,71 @@ object Sta {
           |# Every clock pin gets a clock tree's transition: a gate's output drives its registers across
           |# the hierarchy with no tree (see GatedClockTransitionNs); the clock is ideal, so its latency is 0.
           |set_assigned_transition ${GatedClockTransitionNs} [all_registers -clock_pins]
-          |set need [expr 10.0 - [sta::worst_slack -max]]
-          |foreach path [find_timing_paths -path_delay max -group_count $paths -endpoint_count 1 -sort_by_slack] {
-          |  set through {}
-          |  foreach pt [get_property $$path points] {
-          |    set inst [file dirname [file dirname [get_full_name [get_property $$pt pin]]]]
-          |    if {[llength $$through] == 0 || [lindex $$through end] != $$inst} { lappend through $$inst }
+          |proc mapm_slack_at {period} { mapm_clock $$period; return [sta::worst_slack -max] }
+          |proc mapm_paths {} {
+          |  foreach path [find_timing_paths -path_delay max -group_count $paths -endpoint_count 1 -sort_by_slack] {
+          |    set through {}
+          |    foreach pt [get_property $$path points] {
+          |      set inst [file dirname [file dirname [get_full_name [get_property $$pt pin]]]]
+          |      if {[llength $$through] == 0 || [lindex $$through end] != $$inst} { lappend through $$inst }
+          |    }
+          |    puts "MAPM_PATH [get_full_name [get_property $$path startpoint]] [get_full_name [get_property $$path endpoint]] [get_property $$path slack] [join $$through ,]"
           |  }
-          |  puts "MAPM_PATH [get_full_name [get_property $$path startpoint]] [get_full_name [get_property $$path endpoint]] [expr 10.0 - [get_property $$path slack]] [join $$through ,]"
           |}
-          |mapm_clock [expr $$need * 1.0005 + 0.0005]
-          |puts "MAPM_WHOLE $$need [sta::worst_slack -max]"
-          |exit
+          |puts "MAPM_READY"
           |""".stripMargin
-    Files.write(tcl, script.getBytes(StandardCharsets.UTF_8))
+    Files.write(tcl, setup.getBytes(StandardCharsets.UTF_8))
     val t0 = System.nanoTime()
-    val text = runSta(tcl, dir.resolve("sta-whole.log"), s"timing $top whole", "MAPM_WHOLE", memoryLimitBytes)
-    val whole = ("""MAPM_WHOLE """ + num + """ """ + num).r.findFirstMatchIn(text)
-    MapmError.check(whole.isDefined, s"OpenSTA failed timing $top whole: no result line (log ${dir.resolve("sta-whole.log")})")
-    val need = whole.get.group(1).toDouble
-    MapmError.check(whole.get.group(2).toDouble >= 0, s"OpenSTA timing $top whole: the design misses the period it was found to need, ${need} ns (log ${dir.resolve("sta-whole.log")})")
-    val worst = ("""MAPM_PATH (\S+) (\S+) """ + num + """ (\S*)""").r.findAllMatchIn(text)
-      .map(m => WholePath(m.group(1), m.group(2), m.group(3).toDouble, m.group(4).split(',').toSeq.filter(_.nonEmpty))).toSeq
-    Whole(1.0 / need, """MAPM_INSTANCES ([0-9]+)""".r.findFirstMatchIn(text).map(_.group(1).toLong).getOrElse(0L), worst,
-      (System.nanoTime() - t0) / 1e9)
+    val limit = if (memoryLimitBytes > 0) Seq("prlimit", s"--as=$memoryLimitBytes") else Seq.empty
+    val proc = new java.lang.ProcessBuilder((limit ++ Seq(CostTools.get.sta.toString, "-no_init", "-no_splash")): _*)
+      .directory(dir.toFile).redirectErrorStream(true).start()
+    val out = new StringBuilder
+    val in = new java.io.BufferedReader(new java.io.InputStreamReader(proc.getInputStream, StandardCharsets.UTF_8))
+    val cmd = new java.io.PrintWriter(new java.io.OutputStreamWriter(proc.getOutputStream, StandardCharsets.UTF_8), true)
+    def fail(why: String): Nothing = {
+      Files.write(log, out.toString.getBytes(StandardCharsets.UTF_8))
+      proc.destroy()
+      MapmError.fail(s"OpenSTA failed timing $top whole: $why (log $log)")
+    }
+    /** Sends `command` (which prints a line starting with `marker` when it succeeds) and reads
+      * OpenSTA's output up to that line, which it returns. OpenSTA echoes each command after its
+      * prompt; a Tcl error in the command is caught and printed as one line. */
+    def ask(command: String, marker: String): String = {
+      cmd.println(s"""if {[catch {$command} mapm_err]} { puts "MAPM_FAIL [string map {\\n { }} $$mapm_err]" }""")
+      var line = in.readLine()
+      while (line != null && !line.startsWith(marker)) {
+        out.append(line).append('\n')
+        if (line.startsWith("MAPM_FAIL ")) fail(line.stripPrefix("MAPM_FAIL ").trim)
+        if (line.startsWith("Error")) fail(line.trim)
+        line = in.readLine()
+      }
+      if (line == null) fail(s"it ended (exit ${proc.waitFor()}) before printing $marker")
+      out.append(line).append('\n')
+      line
+    }
+    try {
+      ask(s"source {$tcl}", "MAPM_READY")
+      def slackAt(period: Double): Double = {
+        val m = (s"MAPM_SLACK $num").r.findFirstMatchIn(ask(s"""puts "MAPM_SLACK [mapm_slack_at $period]"""", "MAPM_SLACK"))
+        val slack = m.fold(fail(s"no slack at $period ns"))(_.group(1).toDouble)
+        progress(f"whole at $period%.4f ns: worst slack $slack%.4f ns")
+        slack
+      }
+      val found = PeriodSearch.minPeriod(slackAt, 10.0, toleranceNs = 0.002)
+      for ((p, sl) <- found.trials) out.append(s"MAPM_TRIAL $p $sl\n")
+      ask(s"mapm_clock ${found.periodNs}; mapm_paths; puts MAPM_PATHS_END", "MAPM_PATHS_END")
+      cmd.println("exit"); proc.waitFor()
+      val text = out.toString
+      Files.write(log, text.getBytes(StandardCharsets.UTF_8))
+      val worst = ("""MAPM_PATH (\S+) (\S+) """ + num + """ (\S*)""").r.findAllMatchIn(text)
+        .map(m => WholePath(m.group(1), m.group(2), m.group(3).toDouble, m.group(4).split(',').toSeq.filter(_.nonEmpty))).toSeq
+      Whole(1.0 / found.periodNs, """MAPM_INSTANCES ([0-9]+)""".r.findFirstMatchIn(text).map(_.group(1).toLong).getOrElse(0L), worst,
+        found.trials, (System.nanoTime() - t0) / 1e9)
+    } finally { cmd.close(); proc.destroy() }
   }
 
   private val num = """(-?[0-9.]+(?:[eE][+-]?[0-9]+)?)"""
 
-  /** The per-clock sections of the log. */
   /** Runs OpenSTA on `tcl` in its folder, keeps its output in `log` and returns it; fails with one
     * line when OpenSTA exits non-zero, prints an error or never prints `done` (its result line).
     * A `memoryLimitBytes` above zero caps its address space (`prlimit`), so that a design too large

@@ -157,7 +157,7 @@ object ConfigCost {
     val free = freeMemoryBytes()
     log(f"timing ${d.top} whole, every path between its parts (OpenSTA capped at ${free / 1e9 - 1}%.1f GB) ...")
     try Right(Sta.timeWhole(Seq(d.result.verilog) ++ extra, d.top, flow.libPath, dir.resolve("sta-whole"),
-      memoryLimitBytes = math.max(free - (1L << 30), 1L << 30)))
+      memoryLimitBytes = math.max(free - (1L << 30), 1L << 30), progress = m => log(s"  $m")))
     catch { case e: MapmError => Left(e.getMessage) }
   }
 
@@ -238,7 +238,8 @@ object ConfigCost {
         why => ujson.Obj("configuration" -> ujson.Null, "reason" -> why),
         w => ujson.Obj("configuration" -> label, "fmaxGHz" -> w.fmaxGHz, "instances" -> w.instances.toDouble, "seconds" -> w.seconds,
           "note" -> "the whole netlist linked and timed at once (ideal clock, a clock tree's transition at every clock pin); SRAM arrays are black boxes, so paths end at their pins and their access time is not counted",
-          "worstPaths" -> ujson.Arr.from(w.worst.map(p => ujson.Obj("start" -> p.startPoint, "end" -> p.endPoint, "periodNs" -> p.periodNs,
+          "trials" -> ujson.Arr.from(w.trials.map { case (p, s) => ujson.Obj("periodNs" -> p, "worstSlackNs" -> s) }),
+          "worstPaths" -> ujson.Arr.from(w.worst.map(p => ujson.Obj("start" -> p.startPoint, "end" -> p.endPoint, "slackNs" -> p.slackNs,
             "through" -> ujson.Arr.from(p.through.map(ujson.Str(_)))))))),
       "logicAreaMm2" -> areaBy.values.sum / 1e6, "sequentialAreaMm2" -> seqBy.values.sum / 1e6,
       "areaByBlockMm2" -> ujson.Obj.from(blocks.map(b => b -> ujson.Num(areaBy.getOrElse(b, 0.0) / 1e6))),

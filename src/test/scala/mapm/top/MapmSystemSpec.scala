@@ -1,7 +1,5 @@
 package mapm.top
 
-import mapm.pipeline.Configure
-
 import java.nio.file.{Files, Paths}
 
 import chisel3._
@@ -114,12 +112,6 @@ class MapmSystemSpec extends AnyFunSuite with Sim {
     info(s"${k.image.queryCount} queries, ${k.expected.size} SOs, ${k.tsOps} TS ops per seed")
   }
 
-  test("2/1/2 fp16 (g = 2): 150 photons, 4 seeds") {
-    val k = prepare(150, "100", FloatFormat.fp16, 2) // h^2 must fit fp16 (max 65504)
-    simulate(new Mapm(Configure.of(2, 1, 2, FloatFormat.fp16, 2))) { c =>
-      for (seed <- 1 to 4) run(c, k, 100 + seed, DramTiming(maxLatency = 300, reqReady = 0.5, respValid = 0.5), queryGap = 0.5)
-    }
-  }
 }
 
 object MapmSystemSpec {
