@@ -54,6 +54,7 @@ mapm_sbt_launcher() {
 # inside) in a venv under the cache, OpenSTA from Debian, and the OSU 0.18 um cells from Debian's
 # qflow-tech-osu018 (unpacked from the .deb alone, without qflow). Each prints the one path it made.
 MAPM_PYOSYS_VERSION="${MAPM_PYOSYS_VERSION:-0.70}"
+MAPM_FLIP_VERSION="${MAPM_FLIP_VERSION:-1.7}"   # NVIDIA FLIP (PyPI flip-evaluator), the study's image metric
 
 mapm_ensure_yosys() {
   local venv="$MAPM_CACHE/pyosys-$MAPM_PYOSYS_VERSION"
@@ -68,6 +69,23 @@ mapm_ensure_yosys() {
     "$venv/bin/python" -c 'from pyosys import libyosys' >/dev/null 2>&1 || mapm_die "pyosys installed but does not import"
   fi
   echo "$venv/bin/python"
+}
+
+# NVIDIA's FLIP image-difference tool (PyPI flip-evaluator, a compiled wheel with a `flip`
+# command) in its own venv; prints flip=PATH (read by mapm.evaluation.Flip).
+mapm_ensure_flip() {
+  local venv="$MAPM_CACHE/flip-$MAPM_FLIP_VERSION"
+  if ! "$venv/bin/flip" -h >/dev/null 2>&1; then
+    command -v python3 >/dev/null 2>&1 || mapm_apt_install python3 python3-venv
+    mkdir -p "$MAPM_CACHE"
+    echo "mapm setup: installing FLIP $MAPM_FLIP_VERSION (flip-evaluator) from PyPI into $venv ..." >&2
+    rm -rf "$venv"
+    { python3 -m venv "$venv" >/dev/null 2>&1 || { mapm_apt_install python3-venv && python3 -m venv "$venv" >/dev/null 2>&1; }; } \
+      || mapm_die "could not create a Python venv at $venv"
+    "$venv/bin/pip" install -q "flip-evaluator==$MAPM_FLIP_VERSION" >&2 || mapm_die "pip install flip-evaluator==$MAPM_FLIP_VERSION failed"
+    "$venv/bin/flip" -h >/dev/null 2>&1 || mapm_die "flip-evaluator installed but its flip command does not run"
+  fi
+  echo "flip=$venv/bin/flip"
 }
 
 mapm_ensure_opensta() {

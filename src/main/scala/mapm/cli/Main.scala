@@ -46,6 +46,7 @@ object Main {
     SoaVectorsCommand,
     SoaBenchCommand,
     CostCommand,
+    PrecisionCommand,
     StressCommand,
     FuzzCommand,
     LintCommand

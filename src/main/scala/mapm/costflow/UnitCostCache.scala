@@ -19,10 +19,15 @@ import mapm.sim.{BuildCache, Harness, MapmRtl}
   * (the Table 4.8 Cornell box) in the format, or seeded random ones where the format cannot hold
   * that frame. */
 object UnitCostCache {
-  /** What a sweep needs of a unit: fmax, area, dynamic energy per cycle at its measured activity, leakage. */
+  /** What a sweep and the precision study need of a unit: fmax, area, dynamic energy per cycle at
+    * its measured activity and per operation (NaN in a report written before it was kept), leakage. */
   final case class Figures(unit: String, top: String, fmaxGHz: Double, areaUm2: Double, dynamicPjPerCycle: Double,
-                           leakageMw: Double, stimulus: String, file: Path) {
+                           leakageMw: Double, stimulus: String, file: Path, energyPerOpNj: Double = Double.NaN) {
     def dynamicMwAt(ghz: Double): Double = dynamicPjPerCycle * ghz
+    def json: ujson.Obj = ujson.Obj("unit" -> unit, "top" -> top, "fmaxGHz" -> fmaxGHz, "areaUm2" -> areaUm2,
+      "atFmax" -> ujson.Obj("dynamicPjPerCycle" -> dynamicPjPerCycle, "leakagePowerMw" -> leakageMw),
+      "activity" -> ujson.Obj("source" -> stimulus),
+      "energyPerOpNj" -> (if (energyPerOpNj.isNaN) ujson.Null else ujson.Num(energyPerOpNj)))
   }
 
   /** The flow settings (as `cost --unit` defaults them). */
@@ -52,8 +57,14 @@ object UnitCostCache {
   /** Reads a unit's `cost.json` (as [[mapm.cost.UnitCost.json]] writes it). */
   def read(unit: String, file: Path): Figures = {
     val j = try ujson.read(Files.readAllBytes(file)) catch { case e: Exception => MapmError.fail(s"$file: not a unit cost report (${e.getMessage})") }
+    parse(unit, j, file)
+  }
+
+  /** The figures of a unit cost report `j` (a `cost.json`, or [[Figures.json]]) read from `file`. */
+  def parse(unit: String, j: ujson.Value, file: Path): Figures = {
     try Figures(unit, j("top").str, j("fmaxGHz").num, j("areaUm2").num, j("atFmax")("dynamicPjPerCycle").num,
-      j("atFmax")("leakagePowerMw").num, j("activity")("source").str, file)
+      j("atFmax")("leakagePowerMw").num, j("activity")("source").str, file,
+      j.obj.get("energyPerOpNj").filter(_ != ujson.Null).map(_.num).getOrElse(Double.NaN))
     catch { case e: NoSuchElementException => MapmError.fail(s"$file: not a unit cost report (${e.getMessage})") }
   }
 }

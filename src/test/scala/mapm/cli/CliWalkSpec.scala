@@ -42,6 +42,7 @@ class CliWalkSpec extends AnyFunSuite {
     case "cost" => Seq("unit" -> "tsa", "format" -> "5,4", "scene" -> small, "ops" -> "200", "out" -> s"$work/cost")
     case "fuzz" => Seq("inputs" -> "5", "out" -> s"$work/out")
     case "format" => Seq("values" -> "1.5", "format" -> "fp16")
+    case "precision" => Seq("formats" -> "5,4", "arith" -> "online", "no-frame-time" -> "", "scene" -> small, "out" -> s"$work/out")
     case _ => Seq.empty
   }
 
