@@ -60,6 +60,16 @@ object PrecisionCommand extends Command {
     Files.write(dir.resolve("precision.csv"), csv.getBytes(UTF_8))
     PrecisionStudy.chart(rows, dir.resolve("precision-pareto.png"))
     println(PrecisionStudy.table(rows))
+    // The recommendation: the narrowest format whose frame is visually lossless (no channel of any
+    // pixel more than one 8-bit level off float64's), against fp32 in the same arithmetic.
+    PrecisionStudy.recommend(rows, _.levels.lossless) match {
+      case Some(r) =>
+        val fp32 = rows.find(x => x.point.format == FloatFormat.fp32 && x.point.arith == r.point.arith && x.point.g == r.point.g)
+        println(s"narrowest visually lossless (no channel more than one 8-bit level off float64): ${r.point.name}" +
+          fp32.fold("")(b => f", ${r.arithNjPerSo}%.2f nJ per shader operation against fp32's ${b.arithNjPerSo}%.2f " +
+            f"(${(1 - r.arithNjPerSo / b.arithNjPerSo) * 100}%.0f %% less), SOA ${r.soa.areaUm2 / 1e6}%.2f mm^2 against ${b.soa.areaUm2 / 1e6}%.2f"))
+      case None => println("no format studied is visually lossless (no channel more than one 8-bit level off float64)")
+    }
     Seq("precision.csv", "precision-pareto.png").foreach(f => println(s"wrote ${dir.resolve(f)}"))
     0
   }

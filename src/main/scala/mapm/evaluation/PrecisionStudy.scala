@@ -35,13 +35,32 @@ object PrecisionStudy {
   }
 
   /** A point's figures; `frameCycles` and `frameConfig` are absent when the frame time was not asked for. */
-  final case class Row(point: Point, psnrDb: Double, flip: Double, shaderOps: Long, treeSearchOps: Long,
+  final case class Row(point: Point, psnrDb: Double, flip: Double, levels: LevelDiff, shaderOps: Long, treeSearchOps: Long,
                        soa: UnitCostCache.Figures, tsa: UnitCostCache.Figures, frameConfig: Option[String], frameCycles: Option[Long]) {
     /** The SOA's and TSA's dynamic energy per shader operation (nJ). */
     def arithNjPerSo: Double = soa.energyPerOpNj + tsa.energyPerOpNj * treeSearchOps / shaderOps.toDouble
     /** The slower unit's fmax, the clock of the frame time. */
     def clockGHz: Double = soa.fmaxGHz min tsa.fmaxGHz
     def frameMs: Option[Double] = frameCycles.map(_ / clockGHz / 1e6)
+  }
+
+  /** How the viewable frame's 8-bit PNG differs from float64's: the largest difference of one
+    * channel in levels (0 to 255) and the share of pixels that differ at all. */
+  final case class LevelDiff(maxLevels: Int, pixelsDiffering: Double) {
+    /** Visually lossless by this study's rule: no channel of any pixel more than one level off. */
+    def lossless: Boolean = maxLevels <= 1
+  }
+
+  /** [[LevelDiff]] of two PNG files of one size. */
+  def levelDiff(reference: Path, test: Path): LevelDiff = {
+    def read(p: Path) = Option(javax.imageio.ImageIO.read(p.toFile)).getOrElse(MapmError.fail(s"$p: not a readable image"))
+    val (a, b) = (read(reference), read(test))
+    MapmError.check(a.getWidth == b.getWidth && a.getHeight == b.getHeight, s"$test is ${b.getWidth}x${b.getHeight}, $reference ${a.getWidth}x${a.getHeight}")
+    val diffs = for (y <- 0 until a.getHeight; x <- 0 until a.getWidth) yield {
+      val (p, q) = (a.getRGB(x, y), b.getRGB(x, y))
+      (0 until 3).map(c => math.abs(((p >> (8 * c)) & 0xff) - ((q >> (8 * c)) & 0xff))).max
+    }
+    LevelDiff(diffs.max, diffs.count(_ > 0).toDouble / diffs.size)
   }
 
   /** Which of `points` (cost, error: both the lower the better) no other point dominates (no
@@ -72,7 +91,7 @@ object PrecisionStudy {
     val references = scala.collection.mutable.Map.empty[FloatFormat, (Array[Double], Path)]
     points.map { pt =>
       val file = out.resolve("points").resolve(s"${pt.name}.json")
-      val key = mapm.sim.Verilator.hash(code, pt.toString, scene, new String(Files.readAllBytes(java.nio.file.Paths.get(scene)), UTF_8), frameAt.toString)
+      val key = mapm.sim.Verilator.hash(code, RecordVersion, pt.toString, scene, new String(Files.readAllBytes(java.nio.file.Paths.get(scene)), UTF_8), frameAt.toString)
       val kept = if (Files.isRegularFile(file)) scala.util.Try(ujson.read(Files.readAllBytes(file))).toOption.filter(_("key").str == key) else None
       val j = kept.getOrElse {
         log(s"${pt.name}: the model frame in ${pt.format} ${pt.arith} ...")
@@ -87,6 +106,7 @@ object PrecisionStudy {
         ImageIO.writePng(png, frameImage(prep, prep.model.frame))
         val psnr = Metrics.psnr(prep.model.frame, ref)
         val flip = Flip.meanError(refPng, png)
+        val levels = levelDiff(refPng, png)
         val soa = UnitCostCache.get("soa", pt.format, pt.g, pt.arith, log)
         val tsa = UnitCostCache.get("tsa", pt.format, pt.g, pt.arith, log)
         val cycles = frameAt.map { counts =>
@@ -100,6 +120,7 @@ object PrecisionStudy {
         }
         val rec = ujson.Obj("key" -> key, "point" -> pt.name, "format" -> pt.format.toString, "arith" -> pt.arith.name, "g" -> pt.g,
           "psnrDb" -> (if (psnr.isInfinite) ujson.Str("inf") else ujson.Num(psnr)), "flip" -> flip,
+          "pngMaxLevels" -> levels.maxLevels, "pngPixelsDiffering" -> levels.pixelsDiffering,
           "shaderOps" -> prep.model.count.toDouble, "treeSearchOps" -> prep.model.tsOps.toDouble,
           "soa" -> soa.json, "tsa" -> tsa.json,
           "frameConfig" -> frameAt.fold[ujson.Value](ujson.Null)(c => s"${c._1}/${c._2}/${c._3}"),
@@ -108,7 +129,7 @@ object PrecisionStudy {
         rec
       }
       def num(v: ujson.Value): Double = v.strOpt.fold(v.num)(_ => Double.PositiveInfinity)
-      Row(pt, num(j("psnrDb")), j("flip").num, j("shaderOps").num.toLong, j("treeSearchOps").num.toLong,
+      Row(pt, num(j("psnrDb")), j("flip").num, LevelDiff(j("pngMaxLevels").num.toInt, j("pngPixelsDiffering").num), j("shaderOps").num.toLong, j("treeSearchOps").num.toLong,
         UnitCostCache.parse("soa", j("soa"), file), UnitCostCache.parse("tsa", j("tsa"), file),
         j("frameConfig").strOpt, j("frameCycles").numOpt.map(_.toLong))
     }
@@ -117,10 +138,10 @@ object PrecisionStudy {
   /** The rows as CSV (one line per point). */
   def csv(rows: Seq[Row]): String = {
     val front = paretoFront(rows.map(r => (r.arithNjPerSo, r.flip)))
-    ("point,format,bits,arith,g,psnr_db,flip,soa_area_um2,soa_nj_per_op,soa_fmax_ghz,tsa_area_um2,tsa_nj_per_op,tsa_fmax_ghz," +
+    ("point,format,bits,arith,g,psnr_db,flip,png_max_levels,png_pixels_differing,soa_area_um2,soa_nj_per_op,soa_fmax_ghz,tsa_area_um2,tsa_nj_per_op,tsa_fmax_ghz," +
       "arith_nj_per_so,frame_config,frame_cycles,frame_ms,pareto\n") + rows.zip(front).map { case (r, p) =>
       Seq(r.point.name, r.point.format.toString, r.point.format.width, r.point.arith.name, r.point.g, f"${r.psnrDb}%.3f", f"${r.flip}%.6f",
-        f"${r.soa.areaUm2}%.0f", f"${r.soa.energyPerOpNj}%.4f", f"${r.soa.fmaxGHz}%.4f", f"${r.tsa.areaUm2}%.0f", f"${r.tsa.energyPerOpNj}%.4f",
+        r.levels.maxLevels, f"${r.levels.pixelsDiffering}%.5f", f"${r.soa.areaUm2}%.0f", f"${r.soa.energyPerOpNj}%.4f", f"${r.soa.fmaxGHz}%.4f", f"${r.tsa.areaUm2}%.0f", f"${r.tsa.energyPerOpNj}%.4f",
         f"${r.tsa.fmaxGHz}%.4f", f"${r.arithNjPerSo}%.4f", r.frameConfig.getOrElse(""), r.frameCycles.fold("")(_.toString),
         r.frameMs.fold("")(v => f"$v%.4f"), p).mkString(",")
     }.mkString("\n") + "\n"
@@ -130,11 +151,11 @@ object PrecisionStudy {
   def table(rows: Seq[Row]): String = {
     val front = paretoFront(rows.map(r => (r.arithNjPerSo, r.flip)))
     val sb = new StringBuilder
-    sb ++= "| point | bits | PSNR (dB) | mean FLIP | SOA area (mm^2) | SOA nJ/op | SOA fmax (MHz) | TSA area (mm^2) | TSA nJ/op | " +
+    sb ++= "| point | bits | PSNR (dB) | mean FLIP | PNG levels off (max; pixels) | SOA area (mm^2) | SOA nJ/op | SOA fmax (MHz) | TSA area (mm^2) | TSA nJ/op | " +
       "nJ per SO (SOA + TSA) | frame cycles | frame (ms) | Pareto |\n"
-    sb ++= "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|:---:|\n"
+    sb ++= "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|:---:|\n"
     for ((r, p) <- rows.zip(front))
-      sb ++= f"| ${r.point.name} | ${r.point.format.width} | ${r.psnrDb}%.2f | ${r.flip}%.6f | ${r.soa.areaUm2 / 1e6}%.3f | ${r.soa.energyPerOpNj}%.3f | " +
+      sb ++= f"| ${r.point.name} | ${r.point.format.width} | ${r.psnrDb}%.2f | ${r.flip}%.6f | ${r.levels.maxLevels}; ${r.levels.pixelsDiffering * 100}%.1f %% | ${r.soa.areaUm2 / 1e6}%.3f | ${r.soa.energyPerOpNj}%.3f | " +
         f"${r.soa.fmaxGHz * 1000}%.0f | ${r.tsa.areaUm2 / 1e6}%.3f | ${r.tsa.energyPerOpNj}%.3f | ${r.arithNjPerSo}%.3f | " +
         s"${r.frameCycles.fold("-")(c => f"$c%,d")} | ${r.frameMs.fold("-")(v => f"$v%.2f")} | ${if (p) "yes" else ""} |\n"
     sb.toString
@@ -160,6 +181,9 @@ object PrecisionStudy {
     Option(path.toAbsolutePath.getParent).foreach(Files.createDirectories(_))
     Files.write(path, BitmapEncoder.getBitmapBytes(chart, BitmapEncoder.BitmapFormat.PNG))
   }
+
+  /** The version of a point's record: a record of another version is made again. */
+  private val RecordVersion = "2"
 
   /** The configuration whose frame time the study measures unless told otherwise. */
   val defaultFrameConfig: (Int, Int, Int) = (MapmParams.default.counts.tsm, MapmParams.default.counts.som, MapmParams.default.counts.soaPerSom)

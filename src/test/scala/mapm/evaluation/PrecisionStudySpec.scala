@@ -36,7 +36,7 @@ class PrecisionStudySpec extends AnyFunSuite {
     UnitCostCache.Figures(unit, s"${unit.toUpperCase}_x", fmax, area, nj * 500, 0.01, "test", Paths.get("none"), nj)
 
   private def row(f: FloatFormat, a: Arith, flip: Double, soaNj: Double, tsaNj: Double = 0.1) =
-    PrecisionStudy.Row(PrecisionStudy.Point(f, a, 3), 50.0, flip, 1000, 500, figures("soa", 1e6, soaNj, 0.3),
+    PrecisionStudy.Row(PrecisionStudy.Point(f, a, 3), 50.0, flip, PrecisionStudy.LevelDiff(if (flip < 0.03) 1 else 4, 0.1), 1000, 500, figures("soa", 1e6, soaNj, 0.3),
       figures("tsa", 5e4, tsaNj, 0.6), Some("16/16/2"), Some(400000L))
 
   test("a row's energy per shader operation is the SOA's plus the TSA's per tree-search operation; the frame time at the slower unit") {
@@ -59,6 +59,24 @@ class PrecisionStudySpec extends AnyFunSuite {
     // good and cheaper).
     val onFront = csv.tail.filter(_.endsWith(",true")).map(_.split(',')(0)).toSet
     assert(onFront == Set("e5m7-online-g3", "bf16-online-g3", "fp16-conventional", "fp32-online-g3"), onFront.toString)
+  }
+
+  test("levels off: the largest channel difference and the share of pixels that differ, from PNGs written here") {
+    val dir = Files.createTempDirectory("mapm-levels")
+    def write(name: String, rgb: (Int, Int) => Int): Path = {
+      val img = new java.awt.image.BufferedImage(5, 4, java.awt.image.BufferedImage.TYPE_INT_RGB)
+      for (y <- 0 until 4; x <- 0 until 5) img.setRGB(x, y, rgb(x, y))
+      val p = dir.resolve(name); javax.imageio.ImageIO.write(img, "png", p.toFile); p
+    }
+    val a = write("a.png", (x, y) => (x * 40) << 16 | (y * 50) << 8 | 7)
+    val b = write("b.png", (x, y) => if (x == 2 && y == 1) (x * 40) << 16 | (y * 50 + 3) << 8 | 7 else if (x == 4 && y == 3) (x * 40 - 1) << 16 | (y * 50) << 8 | 7 else (x * 40) << 16 | (y * 50) << 8 | 7)
+    assert(PrecisionStudy.levelDiff(a, a) == PrecisionStudy.LevelDiff(0, 0.0))
+    val d = PrecisionStudy.levelDiff(a, b)
+    assert(d.maxLevels == 3 && d.pixelsDiffering == 2.0 / 20 && !d.lossless && PrecisionStudy.LevelDiff(1, 0.5).lossless)
+    val c = write("c.png", (_, _) => 0)
+    val small = dir.resolve("small.png")
+    javax.imageio.ImageIO.write(new java.awt.image.BufferedImage(2, 2, java.awt.image.BufferedImage.TYPE_INT_RGB), "png", small.toFile)
+    assert(intercept[MapmError](PrecisionStudy.levelDiff(c, small)).getMessage.contains("2x2"))
   }
 
   private def png(dir: Path, name: String, f: (Int, Int) => Vec3): Path = {
