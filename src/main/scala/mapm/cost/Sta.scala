@@ -293,7 +293,7 @@ object Sta {
         progress(f"whole at $period%.4f ns: worst slack $slack%.4f ns")
         slack
       }
-      val found = PeriodSearch.minPeriod(slackAt, 10.0, toleranceNs = 0.002)
+      val found = try PeriodSearch.minPeriod(slackAt, 10.0, toleranceNs = 0.002) catch { case e: MapmError => fail(e.getMessage) }
       for ((p, sl) <- found.trials) out.append(s"MAPM_TRIAL $p $sl\n")
       ask(s"mapm_clock ${found.periodNs}; mapm_paths; puts MAPM_PATHS_END", "MAPM_PATHS_END")
       cmd.println("exit"); proc.waitFor()

@@ -213,6 +213,13 @@ class StaSpec extends AnyFunSuite {
     assert(whole.worst.head.endPoint == "gl/D" && whole.worst.head.slackNs >= 0 && whole.worst.head.slackNs < 2e-3, whole.worst.toString)
   }
 
+  test("timed whole, a netlist OpenSTA cannot read is a one-line error naming the top and the log") {
+    val net = write("module top(clock, a, q);\n  input clock;\n  input a;\n  output q;\n  INVX1 u (.A(a), .Y(q))\nendmodule\n")
+    val e = intercept[mapm.MapmError](Sta.timeWhole(Seq(net), "top", tools().osu018Lib, net.getParent.resolve("whole-bad")))
+    assert(e.getMessage.startsWith("OpenSTA failed timing top whole:") && !e.getMessage.contains("\n"), e.getMessage)
+    assert(Files.isRegularFile(net.getParent.resolve("whole-bad").resolve("sta-whole.log")))
+  }
+
   test("timed whole, a configuration input (io_cfg...) starts no path: it holds its value for a frame") {
     def invs(from: String, to: String, k: Int, p: String): String =
       (0 until k).map { i =>
