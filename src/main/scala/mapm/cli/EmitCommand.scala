@@ -6,7 +6,7 @@ import mapm.sim._
 
 import java.nio.charset.StandardCharsets.UTF_8
 import java.nio.file.{Files, Paths}
-import mainargs.{ParserForMethods, arg, main}
+import mainargs.{Flag, ParserForMethods, arg, main}
 import mapm.MapmError
 import mapm.format.SlotLayout
 import mapm.numerics.{Arith, FloatFormat}
@@ -36,10 +36,12 @@ object EmitCommand extends Command {
       @arg(doc = "arithmetic of the SOAs and TSAs: online (the dissertation's) or conventional (correctly rounded floating point)") arith: Arith = Arith.Online,
       @arg(doc = "full: the SOAs' arithmetic; timing: each SOA a latency-exact delay line (cycle-exact, no colours; docs/harness.md)") fidelity: Fidelity = Fidelity.Full,
       @arg(doc = "output directory") out: String = "out/mapm",
+      @arg(doc = "emit beyond the generator's size limit (more TSMs and SOMs together than mapm.sim.MapmRtl.MaxEmitModules; firtool may run for hours)") beyondLimit: Flag,
       hw: HwOptions
   ): Int = {
     val p = Configure.of(tsm, som, soa, format, g, layout, arith, fidelity, hw.tuning)
     val top = mapm.sim.MapmRtl.topName(p)
+    mapm.sim.MapmRtl.checkEmittable(p, beyondLimit.value)
     val dir = Paths.get(out)
     val t0 = System.nanoTime()
     val sv = Emit.systemVerilog(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p))

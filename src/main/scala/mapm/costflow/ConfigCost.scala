@@ -82,6 +82,7 @@ object ConfigCost {
     * kept as modules, the SRAM arrays black boxes. */
   private def synthesize(flow: CostFlow, p: MapmParams, units: Seq[String], dir: Path, log: String => Unit): Synthesized = {
     val top = mapm.sim.MapmRtl.topName(p)
+    mapm.sim.MapmRtl.checkEmittable(p)
     log(s"emitting $top for synthesis ...")
     val ((sv, tags), registered) = Boundary.collect(CostBlock.collect(
       Emit.toFile(if (p.sim.coproc) new mapm.soc.MapmCoproc(p) else new Mapm(p), dir.resolve("rtl"), s"$top.sv", forSynthesis = true)))

@@ -161,23 +161,28 @@ object PrecisionStudy {
     sb.toString
   }
 
+  /** The FLIP error a chart draws for 0 (its axis is logarithmic). */
+  val ChartFloor = 1e-5
+
   /** The Pareto chart: each point's arithmetic energy per shader operation against its mean FLIP
-    * error, one series per arithmetic, the front's points named. */
+    * error on a logarithmic axis (0 drawn at [[ChartFloor]]), one series per arithmetic, the
+    * front's points named. */
   def chart(rows: Seq[Row], path: Path): Unit = {
-    val chart = new XYChartBuilder().width(800).height(560).title("Precision against energy (SOA + TSA per shader operation)")
-      .xAxisTitle("dynamic energy per shader operation (nJ)").yAxisTitle("mean FLIP error against float64").build()
+    val chart = new XYChartBuilder().width(860).height(560).title("Precision against energy (SOA + TSA per shader operation)")
+      .xAxisTitle("dynamic energy per shader operation (nJ)").yAxisTitle(s"mean FLIP error against float64 (0 drawn at $ChartFloor)").build()
     val style = chart.getStyler
+    style.setYAxisLogarithmic(true)
     style.setDefaultSeriesRenderStyle(XYSeriesRenderStyle.Scatter)
     style.setChartBackgroundColor(Color.WHITE); style.setPlotBackgroundColor(Color.WHITE)
     style.setMarkerSize(10)
     val front = paretoFront(rows.map(r => (r.arithNjPerSo, r.flip)))
     for ((label, sel) <- Seq("online" -> ((r: Row) => r.point.arith == Arith.Online), "conventional" -> ((r: Row) => r.point.arith == Arith.Conventional));
          rs = rows.filter(sel) if rs.nonEmpty)
-      chart.addSeries(label, rs.map(_.arithNjPerSo).toArray, rs.map(_.flip).toArray)
+      chart.addSeries(label, rs.map(_.arithNjPerSo).toArray, rs.map(_.flip max ChartFloor).toArray)
     val onFront = rows.zip(front).filter(_._2).map(_._1).sortBy(_.arithNjPerSo)
-    if (onFront.size >= 2) chart.addSeries("Pareto front", onFront.map(_.arithNjPerSo).toArray, onFront.map(_.flip).toArray)
+    if (onFront.size >= 2) chart.addSeries("Pareto front", onFront.map(_.arithNjPerSo).toArray, onFront.map(_.flip max ChartFloor).toArray)
       .setXYSeriesRenderStyle(XYSeriesRenderStyle.Line)
-    for (r <- onFront) chart.addAnnotation(new org.knowm.xchart.AnnotationText(r.point.name, r.arithNjPerSo, r.flip, false))
+    for (r <- onFront) chart.addAnnotation(new org.knowm.xchart.AnnotationText(r.point.name, r.arithNjPerSo, (r.flip max ChartFloor) * 1.6, false))
     Option(path.toAbsolutePath.getParent).foreach(Files.createDirectories(_))
     Files.write(path, BitmapEncoder.getBitmapBytes(chart, BitmapEncoder.BitmapFormat.PNG))
   }

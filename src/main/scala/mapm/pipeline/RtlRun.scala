@@ -104,6 +104,7 @@ object RtlRun {
     val fmt = format.orElse(config.format).getOrElse(FloatFormat.fp32)
     val params = configs.map { case (t, s, a) => Configure.of(t, s, a, fmt, g, layout, arith, fidelity, tuning) }
     checkFits(config, params.headOption.getOrElse(MapmParams.default).indices)
+    params.foreach(MapmRtl.checkEmittable(_))
     (config, fmt, params)
   }
 

@@ -32,6 +32,20 @@ class LimitsSpec extends AnyFunSuite {
       assert(intercept[MapmError](EmitCommand.run(Seq(opt, v))).getMessage.contains(s"$opt ("))
   }
 
+  test("a whole MAPM past the emit limit (1024/1024/4, the largest counts the parameters take) is one line naming the limit, before any work") {
+    val t0 = System.nanoTime()
+    val e = intercept[MapmError](EmitCommand.run(Seq("--tsm", "1024", "--som", "1024", "--soa", "4", "--out", dir.resolve("emit-big").toString)))
+    assert(e.getMessage.startsWith("1024/1024/4 has 2048 TSMs and SOMs together; whole MAPMs are emitted up to " + mapm.sim.MapmRtl.MaxEmitModules) &&
+      e.getMessage.contains("--beyond-limit") && !e.getMessage.contains("\n"), e.getMessage)
+    // render refuses it before the model runs, as it refuses a scene too large for the indices.
+    val r = intercept[MapmError](RenderCommand.run(Seq("--scene", scene("limit", 4, 3, 1, 10), "--tsm", "300", "--som", "300", "--soa", "1",
+      "--out", dir.toString)))
+    assert(r.getMessage.startsWith("300/300/1 has 600 TSMs and SOMs together"), r.getMessage)
+    assert((System.nanoTime() - t0) / 1e9 < 20, "refused before any work")
+    // At the limit it is taken: the check passes (emitting 256/256/4 itself takes minutes: docs/mapm.md).
+    mapm.sim.MapmRtl.checkEmittable(Configure.of(256, 256, 4, FloatFormat.fp32, 3))
+  }
+
   test("at the largest counts every memory port's id still fits its 16 bits (the counts' ranges are the real limit)") {
     val p = Configure.of(ModuleCounts.MaxTsm, ModuleCounts.MaxSom, ModuleCounts.MaxSoaPerSom, FloatFormat.fp64, 3)
     val top = mapm.uncore.Shapes(p).mem // sizes the TS L2, SOQ and SOP L2 ports and the arbiters above them; throws when an id is too wide
