@@ -17,7 +17,7 @@ object MapmRtl {
   /** The most TSMs and SOMs together of a whole MAPM this generator emits. The parameters address
     * up to 1024 of each ([[mapm.params.ModuleCounts]]), but firtool's time grows faster than the
     * design: on the 2-core, 24 GB machine 256/256/4 emits in about 6 minutes at 2.4 GB (docs/mapm.md,
-    * "Elaboration"), 512/512/4 took FIRTOOL_512 and 1024/1024/4 did not finish in 18. */
+    * "Elaboration"), 512/512/4 in 27 (2.5 GB), and 1024/1024/4 did not finish in 18. */
   val MaxEmitModules = 512
 
   /** A one-line [[mapm.MapmError]] when `p` is beyond [[MaxEmitModules]], unless `beyondLimit`. */
@@ -25,7 +25,7 @@ object MapmRtl {
     val n = p.counts.tsm + p.counts.som
     mapm.MapmError.check(beyondLimit || n <= MaxEmitModules,
       s"${p.counts.label} has $n TSMs and SOMs together; whole MAPMs are emitted up to $MaxEmitModules (256/256/4 takes about 6 min " +
-        s"and 2.4 GB on a 2-core machine, 512/512/4 FIRTOOL_512_SHORT, 1024/1024/4 did not finish in 18 min): a smaller configuration, " +
+        s"and 2.4 GB on a 2-core machine, 512/512/4 about 27 min, 1024/1024/4 did not finish in 18 min): a smaller configuration, " +
         "the units alone (emit-soa, emit-tsa), or `emit --beyond-limit` to try")
   }
 
