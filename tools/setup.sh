@@ -56,16 +56,22 @@ mapm_sbt_launcher() {
 MAPM_PYOSYS_VERSION="${MAPM_PYOSYS_VERSION:-0.70}"
 MAPM_FLIP_VERSION="${MAPM_FLIP_VERSION:-1.7}"   # NVIDIA FLIP (PyPI flip-evaluator), the study's image metric
 
+# A fresh venv at $1 with the PyPI requirement $2 installed ($3 names it in the message).
+mapm_pypi_venv() {
+  local venv="$1"
+  command -v python3 >/dev/null 2>&1 || mapm_apt_install python3 python3-venv
+  mkdir -p "$MAPM_CACHE"
+  echo "mapm setup: installing $3 from PyPI into $venv ..." >&2
+  rm -rf "$venv"
+  { python3 -m venv "$venv" >/dev/null 2>&1 || { mapm_apt_install python3-venv && python3 -m venv "$venv" >/dev/null 2>&1; }; } \
+    || mapm_die "could not create a Python venv at $venv"
+  "$venv/bin/pip" install -q "$2" >&2 || mapm_die "pip install $2 failed"
+}
+
 mapm_ensure_yosys() {
   local venv="$MAPM_CACHE/pyosys-$MAPM_PYOSYS_VERSION"
   if ! "$venv/bin/python" -c 'from pyosys import libyosys' >/dev/null 2>&1; then
-    command -v python3 >/dev/null 2>&1 || mapm_apt_install python3 python3-venv
-    mkdir -p "$MAPM_CACHE"
-    echo "mapm setup: installing pyosys $MAPM_PYOSYS_VERSION (yosys) from PyPI into $venv ..." >&2
-    rm -rf "$venv"
-    { python3 -m venv "$venv" >/dev/null 2>&1 || { mapm_apt_install python3-venv && python3 -m venv "$venv" >/dev/null 2>&1; }; } \
-      || mapm_die "could not create a Python venv at $venv"
-    "$venv/bin/pip" install -q "pyosys==$MAPM_PYOSYS_VERSION" >&2 || mapm_die "pip install pyosys==$MAPM_PYOSYS_VERSION failed"
+    mapm_pypi_venv "$venv" "pyosys==$MAPM_PYOSYS_VERSION" "pyosys $MAPM_PYOSYS_VERSION (yosys)"
     "$venv/bin/python" -c 'from pyosys import libyosys' >/dev/null 2>&1 || mapm_die "pyosys installed but does not import"
   fi
   echo "$venv/bin/python"
@@ -76,13 +82,7 @@ mapm_ensure_yosys() {
 mapm_ensure_flip() {
   local venv="$MAPM_CACHE/flip-$MAPM_FLIP_VERSION"
   if ! "$venv/bin/flip" -h >/dev/null 2>&1; then
-    command -v python3 >/dev/null 2>&1 || mapm_apt_install python3 python3-venv
-    mkdir -p "$MAPM_CACHE"
-    echo "mapm setup: installing FLIP $MAPM_FLIP_VERSION (flip-evaluator) from PyPI into $venv ..." >&2
-    rm -rf "$venv"
-    { python3 -m venv "$venv" >/dev/null 2>&1 || { mapm_apt_install python3-venv && python3 -m venv "$venv" >/dev/null 2>&1; }; } \
-      || mapm_die "could not create a Python venv at $venv"
-    "$venv/bin/pip" install -q "flip-evaluator==$MAPM_FLIP_VERSION" >&2 || mapm_die "pip install flip-evaluator==$MAPM_FLIP_VERSION failed"
+    mapm_pypi_venv "$venv" "flip-evaluator==$MAPM_FLIP_VERSION" "FLIP $MAPM_FLIP_VERSION (flip-evaluator)"
     "$venv/bin/flip" -h >/dev/null 2>&1 || mapm_die "flip-evaluator installed but its flip command does not run"
   fi
   echo "flip=$venv/bin/flip"

@@ -40,6 +40,14 @@ class StaSpec extends AnyFunSuite {
         val in = if (i == 0) "a" else s"n$i"; val out = if (i == k - 1) "y" else s"n${i + 1}"
         s"  INVX1 u$i (.A($in), .Y($out));\n"
       }.mkString + "  INVX1 load (.A(y), .Y(dangling));\nendmodule\n")
+  /** k INVX1 cells in a chain from net `from` to net `to`, their nets and cells named after `p`,
+    * with the wires between them declared. */
+  private def invChain(from: String, to: String, k: Int, p: String): String =
+    (0 until k).map { i =>
+      val in = if (i == 0) from else s"$p$i"; val out = if (i == k - 1) to else s"$p${i + 1}"
+      (if (i < k - 1) s"  wire $p${i + 1};\n" else "") + s"  INVX1 ${p}u$i (.A($in), .Y($out));\n"
+    }.mkString
+
   private def sta(net: Path, top: String, clocks: Seq[Double], pins: Seq[(String, Sta.Activity)] = Nil,
                   ports: Seq[(String, Sta.Activity)] = Nil) =
     Sta.run(Seq(net), top, tools().osu018Lib, clocks, net.getParent.resolve("sta"), pins, ports)
@@ -195,11 +203,7 @@ class StaSpec extends AnyFunSuite {
     // is low, as a latch-based gate's is: it closes at the rising edge and opens at the falling
     // one, half a period in); the latch's output gates a second flip-flop's clock. A full-period
     // path of j inverters between the flip-flops is shorter than the latch path's period (2 d).
-    def invs(prefix: String, from: String, to: String, k: Int): String =
-      (0 until k).map { i =>
-        val in = if (i == 0) from else s"$prefix$i"; val out = if (i == k - 1) to else s"$prefix${i + 1}"
-        (if (i < k - 1) s"  wire $prefix${i + 1};\n" else "") + s"  INVX1 ${prefix}u$i (.A($in), .Y($out));\n"
-      }.mkString
+    def invs(prefix: String, from: String, to: String, k: Int): String = invChain(from, to, k, prefix)
     val net = write("module top(clock, d, q);\n  input clock;\n  input d;\n  output q;\n" +
       "  wire q0;\n  wire e;\n  wire en;\n  wire nclk;\n  wire gclk;\n  wire x;\n" +
       "  DFFPOSX1 r0 (.CLK(clock), .D(d), .Q(q0));\n" + invs("l", "q0", "e", 10) +
@@ -221,11 +225,7 @@ class StaSpec extends AnyFunSuite {
   }
 
   test("timed whole, a configuration input (io_cfg...) starts no path: it holds its value for a frame") {
-    def invs(from: String, to: String, k: Int, p: String): String =
-      (0 until k).map { i =>
-        val in = if (i == 0) from else s"$p$i"; val out = if (i == k - 1) to else s"$p${i + 1}"
-        (if (i < k - 1) s"  wire $p${i + 1};\n" else "") + s"  INVX1 ${p}u$i (.A($in), .Y($out));\n"
-      }.mkString
+    def invs(from: String, to: String, k: Int, p: String): String = invChain(from, to, k, p)
     val net = write("module top(clock, io_cfg_x, a, q, r);\n  input clock;\n  input io_cfg_x;\n  input a;\n  output q;\n  output r;\n" +
       "  wire x;\n  wire y;\n" + invs("io_cfg_x", "x", 30, "c") + invs("a", "y", 3, "d") +
       "  DFFPOSX1 rq (.CLK(clock), .D(x), .Q(q));\n  DFFPOSX1 rr (.CLK(clock), .D(y), .Q(r));\nendmodule\n")
